@@ -1,0 +1,98 @@
+// `lasmesh info`: text for people, one JSON object with --json.
+#include "info_command.hpp"
+
+#include "json_writer.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "lasmesh/las_scan.hpp"
+
+#include <optional>
+
+namespace lasmesh::cli {
+
+namespace {
+
+std::string join(const Vec3& v) {
+    return format_double(v[0]) + " " + format_double(v[1]) + " " + format_double(v[2]);
+}
+
+std::string join(const Rgb16& v) {
+    return std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]);
+}
+
+void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
+    JsonWriter json;
+    json.begin_object();
+    json.key("version").value(version_string(h));
+    json.key("point_format").value(std::uint64_t{h.point_format});
+    json.key("point_record_length").value(std::uint64_t{h.point_record_length});
+    json.key("point_count").value(h.point_count);
+    json.key("scale").array(h.scale);
+    json.key("offset").array(h.offset);
+    json.key("bounds").begin_object().key("min").array(h.min).key("max").array(h.max).end_object();
+    json.key("has_color").value(has_color(h));
+    json.key("vlrs").begin_array();
+    for (const Vlr& vlr : h.vlrs) {
+        json.begin_object();
+        json.key("user_id").value(vlr.user_id);
+        json.key("record_id").value(std::uint64_t{vlr.record_id});
+        json.key("length").value(std::uint64_t{vlr.length});
+        json.key("description").value(vlr.description);
+        json.end_object();
+    }
+    json.end_array();
+    if (scan) {
+        json.key("scanned").begin_object();
+        json.key("point_count").value(scan->point_count);
+        json.key("bounds").begin_object().key("min").array(scan->min).key("max").array(scan->max).end_object();
+        json.key("color_min").array(scan->color_min);
+        json.key("color_max").array(scan->color_max);
+        json.end_object();
+    }
+    json.end_object();
+    out << json.str() << '\n';
+}
+
+void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, std::ostream& out) {
+    const LasHeader& h = reader.header();
+    const InputStream& in = reader.stream();
+    out << "input                " << in.name();
+    if (in.compression() != Compression::none) out << " (" << compression_name(in.compression()) << ")";
+    out << "\nversion              " << version_string(h)
+        << "\npoint format         " << int(h.point_format) << " (" << h.point_record_length
+        << "-byte records, " << core_record_size(h.point_format) << " core + "
+        << h.point_record_length - core_record_size(h.point_format) << " extra)"
+        << "\npoint count          " << h.point_count
+        << "\nhas color            " << (has_color(h) ? "yes" : "no")
+        << "\nscale                " << join(h.scale)
+        << "\noffset               " << join(h.offset)
+        << "\nbounds min           " << join(h.min)
+        << "\nbounds max           " << join(h.max)
+        << "\nsystem identifier    " << h.system_identifier
+        << "\ngenerating software  " << h.generating_software
+        << "\nVLRs                 " << h.vlrs.size() << '\n';
+    for (const Vlr& vlr : h.vlrs)
+        out << "  " << vlr.user_id << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
+            << vlr.description << '\n';
+    if (scan) {
+        out << "scanned point count  " << scan->point_count
+            << "\nscanned bounds min   " << join(scan->min)
+            << "\nscanned bounds max   " << join(scan->max) << '\n';
+        if (scan->has_color)
+            out << "scanned color min    " << join(scan->color_min)
+                << "\nscanned color max    " << join(scan->color_max) << '\n';
+    }
+}
+
+} // namespace
+
+void run_info(const InfoOptions& options, std::ostream& out) {
+    LasReader reader(options.input);
+    std::optional<ScanResult> scan;
+    if (options.scan) scan = scan_points(reader, options.chunk_points);
+    if (options.json)
+        write_json(reader.header(), scan, out);
+    else
+        write_text(reader, scan, out);
+}
+
+} // namespace lasmesh::cli

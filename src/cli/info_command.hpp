@@ -1,0 +1,20 @@
+// `lasmesh info`: the header facts of a LAS input, optionally checked against a full scan.
+#pragma once
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+
+namespace lasmesh::cli {
+
+struct InfoOptions {
+    std::string input;
+    bool json = false;
+    bool scan = false;
+    std::size_t chunk_points = 1 << 16;
+};
+
+// Writes the report to `out`; throws lasmesh::Error on bad input.
+void run_info(const InfoOptions& options, std::ostream& out);
+
+} // namespace lasmesh::cli

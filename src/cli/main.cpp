@@ -1,0 +1,53 @@
+// The `lasmesh` command: parses options with CLI11, runs one library entry point per
+// subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
+#include "info_command.hpp"
+#include "lasmesh/error.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <new>
+
+namespace {
+
+constexpr int exit_internal_error = 5;
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
+    app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
+    app.require_subcommand(1);
+
+    lasmesh::cli::InfoOptions info;
+    CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
+    info_command->add_option("INPUT", info.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+        ->required();
+    info_command->add_flag("--json", info.json, "One JSON object instead of text");
+    info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
+    info_command->add_option("--chunk-points", info.chunk_points, "Records per read while scanning")
+        ->capture_default_str()
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : static_cast<int>(lasmesh::ErrorKind::usage);
+    }
+
+    try {
+        if (*info_command) lasmesh::cli::run_info(info, std::cout);
+        std::cout.flush();
+        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output");
+        return 0;
+    } catch (const lasmesh::Error& e) {
+        std::cerr << "lasmesh: " << e.what() << '\n';
+        return e.exit_code();
+    } catch (const std::bad_alloc&) {
+        std::cerr << "lasmesh: out of memory\n";
+        return exit_internal_error;
+    } catch (const std::exception& e) {
+        std::cerr << "lasmesh: internal error: " << e.what() << '\n';
+        return exit_internal_error;
+    }
+}

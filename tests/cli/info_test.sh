@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# `lasmesh info` as users run it: file, stdin and compressed pipes agree; errors exit non-zero
+# with a message naming the input. Usage: info_test.sh LASMESH LASGEN
+set -u
+lasmesh=$1 lasgen=$2
+dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
+passed=0 failed=0
+check() { # check NAME COMMAND...: passes when the command succeeds
+    if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi
+}
+same() { cmp -s "$1" "$2"; }
+contains() { grep -q -- "$2" "$1"; }
+
+"$lasgen" --scene torus --points 30000 --las-version 1.4 --format 7 -o "$dir/t.las"
+"$lasmesh" info --json --scan "$dir/t.las" > "$dir/file.json"
+check "json has the documented keys" python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert set(d) == {"version", "point_format", "point_record_length", "point_count", "scale", "offset",
+                  "bounds", "has_color", "vlrs", "scanned"}, sorted(d)
+assert d["version"] == "1.4" and d["point_format"] == 7 and d["point_count"] == 30000
+assert d["scanned"]["point_count"] == 30000 and d["has_color"] is True
+assert set(d["scanned"]) == {"point_count", "bounds", "color_min", "color_max"}
+assert d["vlrs"][0]["user_id"] == "lasmesh"
+' "$dir/file.json"
+
+"$lasmesh" info --json --scan - < "$dir/t.las" > "$dir/stdin.json"
+check "stdin equals file" same "$dir/file.json" "$dir/stdin.json"
+"$lasmesh" info --json --scan --chunk-points 1 "$dir/t.las" > "$dir/chunk1.json"
+check "chunk size 1 equals default" same "$dir/file.json" "$dir/chunk1.json"
+for z in "gzip -c" "bzip2 -c" "xz -c" "zstd -q -c"; do
+    $z < "$dir/t.las" | "$lasmesh" info --json --scan - > "$dir/z.json"
+    check "$z pipe equals file" same "$dir/file.json" "$dir/z.json"
+done
+zstd -q -c < "$dir/t.las" > "$dir/t.las.zst"
+"$lasmesh" info --json --scan "$dir/t.las.zst" > "$dir/zfile.json"
+check "zstd file equals plain file" same "$dir/file.json" "$dir/zfile.json"
+"$lasmesh" info "$dir/t.las.zst" > "$dir/text.txt"
+check "text output names the compression" contains "$dir/text.txt" "(zstd)"
+
+"$lasgen" --scene sphere --points 100 -o - | "$lasmesh" info --scan - > "$dir/pipe.txt"
+check "generator pipes into info" contains "$dir/pipe.txt" "scanned point count  100"
+
+# Errors: non-zero exit, one line naming the input and what is wrong.
+head -c 1000 "$dir/t.las" > "$dir/cut.las"
+"$lasmesh" info --scan "$dir/cut.las" 2> "$dir/err.txt"; rc=$?
+check "truncated file exits 2" test "$rc" -eq 2
+check "truncated file message" contains "$dir/err.txt" "cut.las: ends at byte 1000 after"
+head -c 5000 "$dir/t.las" | "$lasmesh" info --scan - 2> "$dir/err.txt"; rc=$?
+check "truncated pipe exits 2" test "$rc" -eq 2
+check "truncated pipe message" contains "$dir/err.txt" "standard input: ends at byte 5000"
+"$lasmesh" info - < /dev/null 2> "$dir/err.txt"; rc=$?
+check "empty stdin exits 2" test "$rc" -eq 2
+check "empty stdin message" contains "$dir/err.txt" "standard input: is empty"
+"$lasmesh" info "$dir/missing.las" 2> "$dir/err.txt"; rc=$?
+check "missing file exits 2" test "$rc" -eq 2
+"$lasmesh" info --no-such-option "$dir/t.las" 2> "$dir/err.txt"; rc=$?
+check "unknown option is a usage error" test "$rc" -eq 1
+check "usage error quotes the option" contains "$dir/err.txt" "no-such-option"
+"$lasmesh" --help > "$dir/help.txt"; rc=$?
+check "help exits 0" test "$rc" -eq 0
+check "help lists info" contains "$dir/help.txt" "info"
+"$lasmesh" --version > "$dir/version.txt"
+check "version" contains "$dir/version.txt" "lasmesh "
+
+echo "cli info: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs what lasmesh needs from Debian 12 (only what is missing), then configures and builds
+# it in build/. Idempotent: a second run with nothing changed takes seconds.
+# Used by tools/demo.sh and tools/test.sh; run it alone to just build.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  # toolchain
+  cmake g++ make pkg-config
+  # libraries: LAS streams, parallelism, command line, tests, OpenCL, Draco
+  libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev
+  ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
+  libdraco-dev draco
+  # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc
+  gzip bzip2 xz-utils zstd python3 bc
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "lasmesh: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+build_type=${LASMESH_BUILD_TYPE:-Release}
+if [ ! -f build/CMakeCache.txt ]; then
+  cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" >/dev/null
+fi
+cmake --build build --parallel "$(nproc)" -- --no-print-directory

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The main job on a built-in default: install, build, generate a sample deck scan (2 million
+# points, the kind of scene lasmesh is for), and report on it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/build.sh
+mkdir -p out
+sample=out/sample-deck.las
+[ -f "$sample" ] || build/lasgen --scene deck --points 2000000 --seed 1 -o "$sample"
+build/lasmesh info --scan "$sample"

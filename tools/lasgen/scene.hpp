@@ -1,0 +1,69 @@
+// Synthetic scenes made of simple primitives, sampled one point at a time. Every point depends
+// only on (seed, index), so any block size or thread count gives the same file.
+#pragma once
+
+#include "lasmesh/las_header.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lasgen {
+
+using lasmesh::Vec3;
+using Rgb8 = std::array<std::uint8_t, 3>;
+
+enum class SceneKind { sphere, box, torus, deck };
+
+struct GeneratedPoint {
+    Vec3 position; // world coordinates (scene origin added)
+    Rgb8 color;
+    std::uint8_t classification;
+};
+
+enum class PrimitiveKind { quad, cylinder, sphere, torus, ball };
+
+// quad: origin + s*u + t*v for s, t in [0,1]. cylinder: base `origin`, axis `u` (its full
+// length), `v` and `w` unit vectors across. sphere and ball: centre `origin`, `radius`.
+// torus: centre `origin`, axis z, `radius` to the tube centre, `minor_radius` of the tube.
+struct Primitive {
+    PrimitiveKind kind = PrimitiveKind::quad;
+    Vec3 origin{}, u{}, v{}, w{};
+    double radius = 0, minor_radius = 0;
+    Rgb8 color{};
+    std::uint8_t classification = 1;
+    bool can_have_holes = false;
+    double weight = 0; // share of the points, relative to the other primitives
+};
+
+struct Hole {
+    Vec3 centre;
+    double radius;
+};
+
+struct Scene {
+    std::string name;
+    Vec3 origin{};           // added to every local coordinate
+    std::vector<Primitive> primitives;
+    std::vector<double> cumulative; // normalised running sum of weights, one per primitive
+    std::vector<Hole> holes;        // no points inside these balls (scan shadows)
+    double noise_sigma = 0;         // near-gaussian noise per axis, bounded at 3.46 sigma
+    bool varying_density = false;   // several-fold denser in the middle of the deck than at its ends
+    double tilt_x = 0, tilt_y = 0;  // radians, applied to the whole scene (a ship's trim and list)
+    Vec3 min{}, max{};              // bounds that contain every point the scene can produce
+};
+
+struct SceneOptions {
+    SceneKind kind = SceneKind::deck;
+    double size = 10;  // shapes: diameter (sphere, torus) or edge (box), in metres
+    double noise = -1; // metres; negative: the scene's default
+    Vec3 origin{};
+    Rgb8 color{200, 80, 40}; // single shapes only
+};
+
+Scene make_scene(const SceneOptions& options);
+GeneratedPoint generate_point(const Scene& scene, std::uint64_t seed, std::uint64_t index);
+SceneKind parse_scene_kind(const std::string& name); // throws std::invalid_argument
+
+} // namespace lasgen
