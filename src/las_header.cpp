@@ -93,6 +93,9 @@ void validate_vec3(const InputStream& in, const Vec3& v, std::size_t field_offse
                             std::to_string(field_offset + 8 * i);
         if (!std::isfinite(v[i])) throw_input_error(in.name(), where + " is not a finite number");
         if (nonzero && v[i] == 0.0) throw_input_error(in.name(), where + " is zero");
+        // Positive scales keep raw integers and coordinates in the same order, which the grid's
+        // integer cell boundaries rely on; no writer we know of uses negative ones.
+        if (nonzero && v[i] < 0.0) throw_input_error(in.name(), where + " is negative");
     }
 }
 

@@ -40,12 +40,9 @@ ScanResult scan_points(LasReader& reader, std::size_t chunk_records) {
         result.point_count += count;
     }
     if (result.point_count == 0) return result;
-    for (int a = 0; a < 3; ++a) {
-        // A negative scale would swap the ends, so order them after converting.
-        double lo = decoder.to_world(a, raw_min[a]);
-        double hi = decoder.to_world(a, raw_max[a]);
-        result.min[a] = std::min(lo, hi);
-        result.max[a] = std::max(lo, hi);
+    for (int a = 0; a < 3; ++a) { // scales are positive (checked with the header)
+        result.min[a] = decoder.to_world(a, raw_min[a]);
+        result.max[a] = decoder.to_world(a, raw_max[a]);
     }
     if (result.has_color) {
         result.color_min = color_min;

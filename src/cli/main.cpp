@@ -1,5 +1,6 @@
 // The `lasmesh` command: parses options with CLI11, runs one library entry point per
 // subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
+#include "grid_command.hpp"
 #include "info_command.hpp"
 #include "lasmesh/error.hpp"
 
@@ -29,6 +30,14 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
 
+    lasmesh::cli::GridCommandOptions grid;
+    CLI::App* grid_command = app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
+    grid_command->add_option("INPUT", grid.input, "LAS file, or - for standard input")->required();
+    lasmesh::cli::add_grid_options(*grid_command, grid.grid);
+    grid_command->add_flag("--json", grid.json, "One JSON object instead of text");
+
+    CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -37,6 +46,8 @@ int main(int argc, char** argv) {
 
     try {
         if (*info_command) lasmesh::cli::run_info(info, std::cout);
+        if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
+        if (*devices_command) lasmesh::cli::run_devices(std::cout);
         std::cout.flush();
         if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output");
         return 0;

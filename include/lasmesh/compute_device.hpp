@@ -1,0 +1,45 @@
+// The OpenCL device that accumulates the grid: listed, chosen, and opened once per run.
+// PoCL on the CPU works everywhere; a GPU is preferred when one is present.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lasmesh {
+
+struct DeviceInfo {
+    int index = 0;           // position in list_devices(), across all platforms
+    std::string platform;
+    std::string name;
+    std::string type;        // "GPU", "CPU", "accelerator" or "other"
+    std::string version;     // the device's OpenCL version string
+    std::uint64_t global_memory = 0;
+    std::uint64_t max_alloc = 0; // CL_DEVICE_MAX_MEM_ALLOC_SIZE: the largest single buffer
+};
+
+// Every device of every OpenCL platform. Throws Error (device) when there is no platform, with
+// the package to install.
+std::vector<DeviceInfo> list_devices();
+
+class ComputeDevice {
+public:
+    // `selector`: "auto" (the first GPU, else the first device), an index from list_devices(),
+    // or a case-insensitive part of a device name. Throws Error (device, or usage for a selector
+    // that matches nothing).
+    explicit ComputeDevice(const std::string& selector = "auto");
+    ~ComputeDevice();
+    ComputeDevice(const ComputeDevice&) = delete;
+    ComputeDevice& operator=(const ComputeDevice&) = delete;
+
+    const DeviceInfo& info() const;
+
+    struct Impl; // OpenCL objects; defined in src/opencl_device.hpp for the stages that use them
+    Impl& impl() { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace lasmesh

@@ -1,0 +1,64 @@
+// `lasmesh grid`: accumulate and report the grid (cells, occupancy, points outside, colour depth).
+#include "grid_command.hpp"
+
+#include "json_writer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+
+namespace lasmesh::cli {
+
+void run_devices(std::ostream& out) {
+    for (const DeviceInfo& d : list_devices())
+        out << d.index << "  " << d.type << "  " << d.name << "  [" << d.platform << ", " << d.version << "]  memory "
+            << d.global_memory / 1048576 << " MiB, largest allocation " << d.max_alloc / 1048576 << " MiB\n";
+}
+
+void run_grid(const GridCommandOptions& options, std::ostream& out) {
+    const AccumulateOptions accumulate = accumulate_options(options.grid);
+    LasReader reader(options.input);
+    ComputeDevice device(options.grid.device);
+    const auto start = std::chrono::steady_clock::now();
+    const DensityGrid grid = accumulate_density(reader, device, accumulate);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    std::uint64_t occupied = 0, fullest = 0;
+    for (std::uint64_t c : grid.count) {
+        occupied += c > 0;
+        fullest = std::max(fullest, c);
+    }
+    const double outside_share = grid.points_read ? double(grid.points_outside) / grid.points_read : 0.0;
+    const char* depth = !grid.has_color() ? "none" : grid.color_is_16bit() ? "16-bit" : "8-bit in 16-bit fields";
+    if (options.json) {
+        JsonWriter json;
+        json.begin_object();
+        json.key("device").value(device.info().name);
+        json.key("dims").array(grid.spec.dims);
+        json.key("cell_size").value(grid.spec.cell_size);
+        json.key("origin").array(grid.spec.origin);
+        json.key("points_read").value(grid.points_read);
+        json.key("points_outside").value(grid.points_outside);
+        json.key("occupied_cells").value(occupied);
+        json.key("max_points_per_cell").value(fullest);
+        json.key("color").value(depth);
+        json.key("seconds").value(seconds);
+        json.end_object();
+        out << json.str() << '\n';
+        return;
+    }
+    out << "device               " << device.info().name << " (" << device.info().type << ")\n"
+        << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
+        << " cells of " << format_double(grid.spec.cell_size) << "\n"
+        << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
+        << " " << format_double(grid.spec.origin[2]) << "\n"
+        << "points read          " << grid.points_read << "\n"
+        << "points outside grid  " << grid.points_outside << " (" << std::fixed << std::setprecision(3)
+        << 100 * outside_share << "%)\n"
+        << "occupied cells       " << occupied << " of " << grid.spec.cell_count() << "\n"
+        << "most points in cell  " << fullest << "\n"
+        << "colour               " << depth << "\n"
+        << "read + accumulate    " << std::setprecision(3) << seconds << " s\n";
+}
+
+} // namespace lasmesh::cli

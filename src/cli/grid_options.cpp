@@ -1,0 +1,29 @@
+// Grid and device options: one declaration, used by `lasmesh grid` and the meshing command.
+#include "grid_options.hpp"
+
+namespace lasmesh::cli {
+
+void add_grid_options(CLI::App& command, GridOptions& o) {
+    command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ; cells are cubes")
+        ->capture_default_str();
+    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)");
+    command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
+    command.add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
+        ->capture_default_str();
+    command.add_option("--chunk-mb", o.chunk_mb, "Largest slice of records uploaded at once, MiB (default 16, "
+                                                 "always under the device's largest allocation)")
+        ->check(CLI::PositiveNumber);
+    command.add_option("--max-memory", o.max_memory_mb, "Refuse grids needing more than this, MiB, host and device together")
+        ->check(CLI::PositiveNumber);
+}
+
+AccumulateOptions accumulate_options(const GridOptions& o) {
+    AccumulateOptions a;
+    a.grid = o.voxel > 0 ? voxel_request(o.voxel) : parse_grid_request(o.grid);
+    if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
+    a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
+    a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);
+    return a;
+}
+
+} // namespace lasmesh::cli

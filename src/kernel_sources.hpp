@@ -1,0 +1,7 @@
+// Internal: the OpenCL sources of kernels/*.cl, embedded at build time (see CMakeLists.txt) so
+// an installed lasmesh runs from any directory.
+#pragma once
+
+namespace lasmesh::kernels {
+extern const char accumulate[];
+}
