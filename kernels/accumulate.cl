@@ -6,7 +6,16 @@
 // stored R, G, B words to the colour sums, as 64-bit sums built from 32-bit atomics: exact and
 // independent of the order of the points, and no overflow even for billions of points per cell.
 //
+// A cell's counters sit together (count, red, green, blue: 4 x 64 bits, one 32-byte block), so a
+// point touches one cache line: scattering into a large grid is bound by memory latency.
+//
 // Compile-time options: -D RGB_OFFSET=n when the point format has colour (byte offset of red).
+
+#ifdef RGB_OFFSET
+#define CELL_WORDS 8
+#else
+#define CELL_WORDS 2
+#endif
 
 uint load_u16(global const uchar* p) { return (uint)p[0] | ((uint)p[1] << 8); }
 
@@ -34,8 +43,7 @@ int find_cell(long r, global const long* starts, int n, float cells_per_raw) {
 kernel void accumulate(global const uchar* records, uint count, uint record_length,
                        global const long* starts_x, global const long* starts_y, global const long* starts_z,
                        int nx, int ny, int nz, float per_raw_x, float per_raw_y, float per_raw_z,
-                       volatile global uint* density, volatile global uint* red, volatile global uint* green,
-                       volatile global uint* blue, volatile global uint* stats) {
+                       volatile global uint* cells, volatile global uint* stats) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     global const uchar* record = records + (ulong)i * record_length;
@@ -46,15 +54,15 @@ kernel void accumulate(global const uchar* records, uint count, uint record_leng
         add64(stats, 1); // stats[0..1]: points outside the grid
         return;
     }
-    const ulong cell = ((ulong)cz * ny + cy) * nx + cx;
-    add64(density + 2 * cell, 1);
+    volatile global uint* cell = cells + (((ulong)cz * ny + cy) * nx + cx) * CELL_WORDS;
+    add64(cell, 1);
 #ifdef RGB_OFFSET
     const uint r = load_u16(record + RGB_OFFSET);
     const uint g = load_u16(record + RGB_OFFSET + 2);
     const uint b = load_u16(record + RGB_OFFSET + 4);
-    add64(red + 2 * cell, r);
-    add64(green + 2 * cell, g);
-    add64(blue + 2 * cell, b);
+    add64(cell + 2, r);
+    add64(cell + 4, g);
+    add64(cell + 6, b);
     // stats[2]: the largest colour word, which tells 8-bit from 16-bit colour. Read before the
     // atomic so that the one shared word is written only when the maximum actually grows.
     const uint largest = max(r, max(g, b));

@@ -35,7 +35,7 @@ struct Limits {
 // Empty when the grid fits; otherwise what it exceeds.
 std::string exceeded(const MemoryNeed& need, const Limits& limits) {
     if (need.largest_buffer > limits.max_alloc)
-        return "one grid channel needs " + mib(need.largest_buffer) + ", more than the device's largest allocation (" +
+        return "the grid buffer needs " + mib(need.largest_buffer) + ", more than the device's largest allocation (" +
                mib(limits.max_alloc) + ")";
     if (need.device_bytes > limits.global_memory)
         return "it needs " + mib(need.device_bytes) + " of device memory, more than the device has (" +
@@ -84,10 +84,11 @@ Rgb8 DensityGrid::mean_color(std::uint64_t cell) const {
 
 MemoryNeed memory_need(const GridSpec& grid, bool has_color, std::uint64_t slice_bytes) {
     MemoryNeed need;
-    need.largest_buffer = grid.cell_count() * 8;
-    const std::uint64_t grid_bytes = need.largest_buffer * (has_color ? 4 : 1);
+    const std::uint64_t grid_bytes = grid.cell_count() * 8 * (has_color ? 4 : 1);
+    need.largest_buffer = grid_bytes;
     need.device_bytes = grid_bytes + slots * slice_bytes;
-    need.host_bytes = grid_bytes + slots * slice_bytes;
+    // The read-back copy and the per-channel grid it is split into, plus the staging slices.
+    need.host_bytes = 2 * grid_bytes + slots * slice_bytes;
     return need;
 }
 
@@ -105,7 +106,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     out.spec = grid_for(header, options);
     const std::uint64_t max_alloc = options.max_alloc ? std::min(options.max_alloc, dev.info.max_alloc) : dev.info.max_alloc;
     const std::uint64_t slice_limit = std::min(options.slice_bytes ? options.slice_bytes : default_slice_bytes, max_alloc);
-    const std::size_t slice_records = static_cast<std::size_t>(std::clamp<std::uint64_t>(slice_limit / length, 1, 1u << 30));
+    // No larger than the records still to come: a small file needs no 16 MiB slices.
+    const std::size_t slice_records = static_cast<std::size_t>(
+        std::clamp<std::uint64_t>(std::min<std::uint64_t>(slice_limit / length, reader.records_left()), 1, 1u << 30));
     const std::size_t slice_bytes = slice_records * length;
     check_memory(header, options, out.spec, slice_bytes, {dev.info.global_memory, max_alloc, options.max_memory});
 
@@ -120,16 +123,14 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel kernel(program, "accumulate");
 
-        // Grid channels: 64-bit counters (low and high 32-bit words), zeroed on the device.
-        auto zeroed = [&](std::uint64_t bytes) {
-            cl::Buffer buffer(ctx, CL_MEM_READ_WRITE, bytes);
-            queue.enqueueFillBuffer(buffer, cl_uint{0}, 0, bytes);
-            return buffer;
-        };
-        cl::Buffer density = zeroed(cells * 8);
-        const std::uint64_t color_bytes = color ? cells * 8 : 8; // a placeholder keeps the arguments valid
-        cl::Buffer red = zeroed(color_bytes), green = zeroed(color_bytes), blue = zeroed(color_bytes);
-        cl::Buffer stats = zeroed(4 * sizeof(cl_uint));
+        // The grid: per cell 64-bit counters (count, then red, green, blue sums when there is
+        // colour), each as low and high 32-bit words, zeroed on the device.
+        const std::uint64_t counters = color ? 4 : 1;
+        const std::uint64_t grid_bytes = cells * counters * 8;
+        cl::Buffer grid(ctx, CL_MEM_READ_WRITE, grid_bytes);
+        queue.enqueueFillBuffer(grid, cl_uint{0}, 0, grid_bytes);
+        cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
+        queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
 
         kernel.setArg(2, static_cast<cl_uint>(length));
         std::array<cl::Buffer, 3> starts_buffers; // kernel arguments do not keep buffers alive
@@ -142,11 +143,8 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             const double raw_span = static_cast<double>(starts.back() - starts.front());
             kernel.setArg(9 + a, static_cast<cl_float>(raw_span > 0 ? axes[a].count() / raw_span : 0.0));
         }
-        kernel.setArg(12, density);
-        kernel.setArg(13, red);
-        kernel.setArg(14, green);
-        kernel.setArg(15, blue);
-        kernel.setArg(16, stats);
+        kernel.setArg(12, grid);
+        kernel.setArg(13, stats);
 
         // Double buffering: while the device works on slice k, the host reads slice k + 1. A
         // staging buffer is refilled only after its upload has completed.
@@ -171,19 +169,23 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             queue.flush();
         }
 
-        out.count.resize(cells);
-        queue.enqueueReadBuffer(density, CL_FALSE, 0, cells * 8, out.count.data());
-        if (color) {
-            for (auto [buffer, sums] : {std::pair{&red, &out.red}, std::pair{&green, &out.green}, std::pair{&blue, &out.blue}}) {
-                sums->resize(cells);
-                queue.enqueueReadBuffer(*buffer, CL_FALSE, 0, cells * 8, sums->data());
-            }
-        }
+        std::vector<std::uint64_t> sums(cells * counters);
+        queue.enqueueReadBuffer(grid, CL_FALSE, 0, grid_bytes, sums.data());
         cl_uint stat_words[4] = {};
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
         queue.finish();
         out.points_outside = join64(stat_words);
         out.color_max_word = stat_words[2];
+        out.count.resize(cells);
+        for (std::uint64_t c = 0; c < cells; ++c) out.count[c] = sums[c * counters];
+        if (color) {
+            out.red.resize(cells), out.green.resize(cells), out.blue.resize(cells);
+            for (std::uint64_t c = 0; c < cells; ++c) {
+                out.red[c] = sums[c * 4 + 1];
+                out.green[c] = sums[c * 4 + 2];
+                out.blue[c] = sums[c * 4 + 3];
+            }
+        }
     } catch (const cl::Error& e) {
         throw_device_error(e, "accumulating the grid on " + dev.info.name);
     }

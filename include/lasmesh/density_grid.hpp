@@ -45,7 +45,7 @@ struct DensityGrid {
 struct MemoryNeed {
     std::uint64_t device_bytes = 0;
     std::uint64_t host_bytes = 0;
-    std::uint64_t largest_buffer = 0; // one channel of the grid
+    std::uint64_t largest_buffer = 0; // the grid buffer on the device
 };
 MemoryNeed memory_need(const GridSpec& grid, bool has_color, std::uint64_t slice_bytes);
 
