@@ -2,6 +2,7 @@
 // subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
 #include "grid_command.hpp"
 #include "info_command.hpp"
+#include "mesh_command.hpp"
 #include "lasmesh/error.hpp"
 
 #include <CLI/CLI.hpp>
@@ -18,7 +19,14 @@ constexpr int exit_internal_error = 5;
 int main(int argc, char** argv) {
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
+    app.footer("Examples:\n"
+               "  lasmesh deck.las -o deck.ply\n"
+               "  zstdcat scan.las.zst | lasmesh - -o scan.ply --grid 512\n"
+               "  lasmesh info --scan deck.las");
+
+    lasmesh::cli::MeshOptions mesh;
+    lasmesh::cli::add_mesh_options(app, mesh);
 
     lasmesh::cli::InfoOptions info;
     CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
@@ -48,6 +56,13 @@ int main(int argc, char** argv) {
         if (*info_command) lasmesh::cli::run_info(info, std::cout);
         if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);
+        if (app.get_subcommands().empty()) {
+            if (mesh.input.empty()) {
+                std::cerr << app.help();
+                return static_cast<int>(lasmesh::ErrorKind::usage);
+            }
+            lasmesh::cli::run_mesh(mesh, std::cerr);
+        }
         std::cout.flush();
         if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output");
         return 0;

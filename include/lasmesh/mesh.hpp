@@ -1,0 +1,21 @@
+// An indexed triangle mesh with optional per-vertex colour, positions in a local frame.
+#pragma once
+
+#include "lasmesh/las_header.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace lasmesh {
+
+struct Mesh {
+    // World coordinates of the local frame's origin. float32 positions cannot hold a centimetre
+    // at a UTM northing of 6,700,000 m, so positions are stored relative to this point.
+    Vec3 origin{};
+    std::vector<std::array<float, 3>> positions;
+    std::vector<std::array<std::uint8_t, 3>> colors; // one per vertex, or empty: no colour
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+} // namespace lasmesh

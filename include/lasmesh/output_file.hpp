@@ -1,0 +1,34 @@
+// An output written under a temporary name beside its final path and renamed into place only
+// when complete, so a failed or interrupted run never leaves a partial file under the final name.
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+namespace lasmesh {
+
+class OutputFile {
+public:
+    // Creates "<path>.<pid>.tmp"; throws Error (output) when the folder is missing or read-only.
+    explicit OutputFile(std::string path);
+    ~OutputFile(); // removes the temporary file unless commit() succeeded
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+
+    void write(const void* data, std::size_t size); // throws Error (output), e.g. on a full disk
+    void write(const std::string& text) { write(text.data(), text.size()); }
+    // Flushes, closes and renames the file to its final path; throws Error (output).
+    void commit();
+
+private:
+    [[noreturn]] void fail(const std::string& doing);
+    std::string path_, temporary_;
+    std::FILE* file_ = nullptr;
+    bool committed_ = false;
+};
+
+// Checks before any work that `path`'s folder exists and is writable; throws Error (output).
+void check_output_folder(const std::string& path);
+
+} // namespace lasmesh

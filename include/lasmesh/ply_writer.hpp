@@ -1,0 +1,15 @@
+// PLY output: binary little-endian (default) or ASCII; vertex x, y, z (float, relative to the
+// mesh origin) and uchar red, green, blue when the mesh has colour; faces as
+// `list uchar int vertex_indices`. The origin is recorded as `comment origin X Y Z`.
+#pragma once
+
+#include "lasmesh/mesh.hpp"
+
+#include <string>
+
+namespace lasmesh {
+
+// Writes through a temporary file renamed at the end; throws Error (output).
+void write_ply(const Mesh& mesh, const std::string& path, bool ascii = false);
+
+} // namespace lasmesh
