@@ -27,6 +27,33 @@ int edge_between(const CubeEdges& edges, int a, int b) {
     return -1;
 }
 
+// Whether cube edges e and f lie on a common face of the cube.
+bool share_face(const CubeEdges& edges, int e, int f) {
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            auto on_face = [&](int edge) {
+                return edge / 4 != axis && ((edges.corners[edge][0] >> axis) & 1) == side &&
+                       ((edges.corners[edge][1] >> axis) & 1) == side;
+            };
+            if (on_face(e) && on_face(f)) return true;
+        }
+    return false;
+}
+
+// The fan apex for a polygon: one whose chords never join two points of the same cube face. Such
+// a chord would lie in the face, where the neighbouring cube may draw the same chord: the edge
+// would then belong to four triangles.
+std::size_t fan_apex(const CubeEdges& edges, const std::vector<int>& polygon) {
+    const std::size_t n = polygon.size();
+    for (std::size_t apex = 0; apex < n; ++apex) {
+        bool clean = true;
+        for (std::size_t i = 2; i + 1 < n && clean; ++i)
+            clean = !share_face(edges, polygon[apex], polygon[(apex + i) % n]);
+        if (clean) return apex;
+    }
+    return 0;
+}
+
 CaseTable make_table() {
     const CubeEdges& edges = cube_edges();
     CaseTable table;
@@ -72,6 +99,7 @@ CaseTable make_table() {
                 used[e] = true;
                 polygon.push_back(e);
             }
+            std::rotate(polygon.begin(), polygon.begin() + fan_apex(edges, polygon), polygon.end());
             for (std::size_t i = 1; i + 1 < polygon.size(); ++i)
                 table.triangles[mask].push_back({static_cast<std::uint8_t>(polygon[0]),
                                                  static_cast<std::uint8_t>(polygon[i]),
