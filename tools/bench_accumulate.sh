@@ -13,16 +13,7 @@ mkdir -p out
 cat "$file" > /dev/null
 build/lasmesh grid --grid "$grid" --device "$device" "$file" > /dev/null # warm the kernel cache
 
-best() {
-  local best=999999
-  for _ in 1 2 3; do
-    local start end t
-    start=$(date +%s.%N); "$@" > /dev/null; end=$(date +%s.%N)
-    t=$(echo "$end - $start" | bc -l)
-    best=$(echo "if ($t < $best) $t else $best" | bc -l)
-  done
-  echo "$best"
-}
+source tools/bench_common.sh
 t_cat=$(best cat "$file")
 t_grid=$(best build/lasmesh grid --grid "$grid" --device "$device" "$file")
 build/lasmesh grid --grid "$grid" --device "$device" "$file" | sed -n '1,2p'

@@ -11,16 +11,7 @@ mkdir -p "$(dirname "$file")"
 bytes=$(stat -c %s "$file")
 cat "$file" > /dev/null # warm the page cache
 
-best() { # best wall time in seconds of 3 runs of the command
-  local best=999999
-  for _ in 1 2 3; do
-    local start end t
-    start=$(date +%s.%N); "$@" > /dev/null; end=$(date +%s.%N)
-    t=$(echo "$end - $start" | bc -l)
-    best=$(echo "if ($t < $best) $t else $best" | bc -l)
-  done
-  echo "$best"
-}
+source tools/bench_common.sh
 t_cat=$(best cat "$file")
 t_scan=$(best build/lasmesh info --scan "$file")
 mb=$(echo "$bytes / 1000000" | bc -l)
