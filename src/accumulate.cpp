@@ -7,7 +7,6 @@
 #include "opencl_device.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 
 namespace lasmesh {

@@ -241,7 +241,7 @@ TEST_CASE("--bounds, --voxel and explicit dimensions") {
     const DensityGrid g = accumulate_file(dir.file("line.las"), options);
     CHECK(g.spec.dims == std::array<std::uint32_t, 3>{10, 4, 4});
     CHECK(!g.has_color());
-    CHECK(g.points_outside == 49); // x from 5.0 (inclusive, the closed top) to 9.9 lie inside up to 5.0
+    CHECK(g.points_outside == 49); // x = 0.0 .. 5.0 are inside (5.0 on the closed top face); 5.1 .. 9.9 are not
     check_equal(g, reference_grid(dir.file("line.las"), g.spec));
 
     options.grid = parse_grid_request("20x4x4");

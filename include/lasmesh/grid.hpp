@@ -39,9 +39,6 @@ struct GridSpec {
     std::array<std::uint32_t, 3> dims{1, 1, 1};
 
     std::uint64_t cell_count() const { return std::uint64_t{dims[0]} * dims[1] * dims[2]; }
-    Vec3 upper() const {
-        return {origin[0] + dims[0] * cell_size, origin[1] + dims[1] * cell_size, origin[2] + dims[2] * cell_size};
-    }
 };
 
 // Covers `bounds` with cubic cells as requested. A flat or single-point cloud still gets a valid

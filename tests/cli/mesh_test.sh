@@ -35,7 +35,7 @@ check "gzip gives identical bytes" cmp -s "$dir/s.ply" "$dir/gz.ply"
 check "1 thread and small slices give identical bytes" cmp -s "$dir/s.ply" "$dir/t1.ply"
 check "2 threads give identical bytes" cmp -s "$dir/s.ply" "$dir/t2.ply"
 
-# The deck scene: a torus of colours, holes and outliers still gives a closed mesh.
+# The deck scene, with its many colours, holes and outliers, still gives a closed mesh.
 "$lasgen" --scene deck --points 300000 -o "$dir/d.las"
 "$lasmesh" "$dir/d.las" -o "$dir/d.ply" --grid 128 2> /dev/null
 read -r lo hi < <(bounds "$dir/d.las")
