@@ -108,6 +108,7 @@ Mesh extract_isosurface(const DensityGrid& grid, double iso) {
 
     Mesh mesh;
     mesh.origin = grid.spec.origin;
+    mesh.cell_size = grid.spec.cell_size;
     mesh.positions.resize(vertices_in[l.nz]);
     if (grid.has_color()) mesh.colors.resize(vertices_in[l.nz]);
     mesh.triangles.resize(triangles_in[l.nz]);

@@ -13,6 +13,9 @@ struct Mesh {
     // World coordinates of the local frame's origin. float32 positions cannot hold a centimetre
     // at a UTM northing of 6,700,000 m, so positions are stored relative to this point.
     Vec3 origin{};
+    // Edge of the grid cell the mesh was extracted at (0: unknown). Output precision and the
+    // distances of `lasmesh compare` are judged against it.
+    double cell_size = 0;
     std::vector<std::array<float, 3>> positions;
     std::vector<std::array<std::uint8_t, 3>> colors; // one per vertex, or empty: no colour
     std::vector<std::array<std::uint32_t, 3>> triangles;
