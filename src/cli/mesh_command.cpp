@@ -3,6 +3,7 @@
 
 #include "lasmesh/error.hpp"
 #include "lasmesh/marching_cubes.hpp"
+#include "lasmesh/mesh_pieces.hpp"
 #include "lasmesh/output_file.hpp"
 #include "lasmesh/ply_writer.hpp"
 #include "json_writer.hpp"
@@ -36,6 +37,10 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
+    app.add_option("--min-piece", o.min_piece,
+                   "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
+                   "whole mesh's diagonal (5%), a length in the file's units, or 0 to keep all")
+        ->capture_default_str();
     app.add_flag("--ascii", o.ascii, "Write ASCII PLY instead of binary");
     app.add_option("--threads", o.threads, "Threads for extraction (default: all cores)")->check(CLI::Range(1, 1024));
 }
@@ -49,6 +54,7 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     }
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     const double requested_iso = parse_iso(o.iso);
+    const MinPiece min_piece = parse_min_piece(o.min_piece);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -60,7 +66,8 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
 
     const auto extract_start = std::chrono::steady_clock::now();
     const double iso = requested_iso < 0 ? automatic_iso(grid) : requested_iso;
-    const Mesh mesh = extract_isosurface(grid, iso);
+    Mesh mesh = extract_isosurface(grid, iso);
+    const PieceCount pieces = remove_small_pieces(mesh, min_piece);
     const double t_extract = seconds_since(extract_start);
 
     const auto write_start = std::chrono::steady_clock::now();
@@ -77,6 +84,9 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
             << " points per cell\n"
             << "origin         " << format_double(mesh.origin[0]) << " " << format_double(mesh.origin[1]) << " "
             << format_double(mesh.origin[2]) << " (PLY positions are relative to it)\n"
+            << "pieces         " << pieces.pieces << " connected, " << pieces.removed << " removed ("
+            << pieces.triangles_removed << " triangles) below a diagonal of " << format_double(pieces.min_diagonal)
+            << (min_piece.relative ? " (" + o.min_piece + " of the mesh's)" : std::string()) << "\n"
             << "mesh           " << mesh.positions.size() << " vertices, " << mesh.triangles.size() << " triangles"
             << (mesh.colors.empty() ? ", no colour" : ", coloured") << "\n";
     for (const std::string& path : o.outputs)

@@ -1,0 +1,35 @@
+// Cleaning: removing the small isolated pieces of a mesh. Floating outlier clusters in a scan
+// (spray, birds, stereo mismatches) are dense enough to pass any iso value, so they are told
+// apart by what they are: small and disconnected from everything else.
+#pragma once
+
+#include "lasmesh/mesh.hpp"
+
+#include <cstddef>
+#include <string>
+
+namespace lasmesh {
+
+// A piece-size threshold: a fraction of the whole mesh's bounding-box diagonal, or a length in
+// the file's units.
+struct MinPiece {
+    double value = 0.05;
+    bool relative = true; // value is a fraction of the mesh diagonal
+};
+
+// Parses "--min-piece" text: "5%" (of the mesh diagonal), "2.5" (file units) or "0" (keep all).
+MinPiece parse_min_piece(const std::string& text); // throws Error (usage)
+
+struct PieceCount {
+    std::size_t pieces = 0;  // connected pieces before removal
+    std::size_t removed = 0; // pieces removed
+    std::size_t triangles_removed = 0;
+    double min_diagonal = 0; // the threshold in file units
+};
+
+// Removes every connected piece (triangles linked through shared vertices) whose bounding-box
+// diagonal is below the threshold, and the vertices only they used. The order of what stays
+// is kept, so the result is as deterministic as the input.
+PieceCount remove_small_pieces(Mesh& mesh, MinPiece min_piece);
+
+} // namespace lasmesh

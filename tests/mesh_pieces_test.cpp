@@ -1,0 +1,72 @@
+// Removing small isolated pieces: a big sphere stays whole, a small far one goes, and what
+// stays is the same mesh as before, in the same order.
+#include "lasmesh/marching_cubes.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "lasmesh/error.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace lasmesh;
+
+namespace {
+
+// Balls of the given centres and radii (in cells) in a 40^3 grid of unit cells.
+DensityGrid balls_grid(const std::vector<std::array<double, 4>>& balls) {
+    const std::uint32_t n = 40;
+    DensityGrid g;
+    g.spec.dims = {n, n, n};
+    g.count.resize(g.spec.cell_count());
+    for (std::uint32_t k = 0; k < n; ++k)
+        for (std::uint32_t j = 0; j < n; ++j)
+            for (std::uint32_t i = 0; i < n; ++i)
+                for (const auto& b : balls)
+                    if (std::hypot(i + 0.5 - b[0], j + 0.5 - b[1], k + 0.5 - b[2]) < b[3])
+                        g.count[(std::uint64_t(k) * n + j) * n + i] = 10;
+    return g;
+}
+
+} // namespace
+
+TEST_CASE("small isolated pieces are removed, large ones kept unchanged") {
+    const Mesh big_alone = extract_isosurface(balls_grid({{15, 15, 15, 10}}), 1);
+    Mesh both = extract_isosurface(balls_grid({{15, 15, 15, 10}, {34, 34, 34, 2}}), 1);
+    REQUIRE(both.triangles.size() > big_alone.triangles.size());
+
+    SUBCASE("a relative threshold removes the small ball only") {
+        const PieceCount count = remove_small_pieces(both, parse_min_piece("20%"));
+        CHECK(count.pieces == 2);
+        CHECK(count.removed == 1);
+        CHECK(count.triangles_removed > 0);
+        // The big ball comes first in the mesh, so what stays is exactly the big ball's mesh.
+        CHECK(both.positions == big_alone.positions);
+        CHECK(both.triangles == big_alone.triangles);
+    }
+    SUBCASE("an absolute threshold in file units") {
+        // The small ball's mesh spans about 5 cells (diagonal ~9), the big one about 21 (~36).
+        CHECK(remove_small_pieces(both, parse_min_piece("12")).removed == 1);
+        CHECK(both.triangles == big_alone.triangles);
+    }
+    SUBCASE("zero keeps everything") {
+        const Mesh before = both;
+        const PieceCount count = remove_small_pieces(both, parse_min_piece("0"));
+        CHECK(count.pieces == 2);
+        CHECK(count.removed == 0);
+        CHECK(both.triangles == before.triangles);
+    }
+    SUBCASE("a threshold above every piece leaves an empty mesh") {
+        remove_small_pieces(both, parse_min_piece("100"));
+        CHECK(both.positions.empty());
+        CHECK(both.triangles.empty());
+    }
+}
+
+TEST_CASE("--min-piece text") {
+    CHECK(parse_min_piece("5%").relative);
+    CHECK(parse_min_piece("5%").value == doctest::Approx(0.05));
+    CHECK(!parse_min_piece("2.5").relative);
+    CHECK(parse_min_piece("2.5").value == 2.5);
+    for (const char* bad : {"", "%", "-1", "abc", "5%%", "101%", "nan", "inf", "1e400"})
+        CHECK_THROWS_AS(parse_min_piece(bad), Error);
+}
