@@ -25,9 +25,11 @@ struct Lattice {
     double level;            // interpolation level
     double iso;              // inside means count > iso
 
-    explicit Lattice(const DensityGrid& g, double iso_value)
+    VertexPlacement placement;
+
+    explicit Lattice(const DensityGrid& g, double iso_value, VertexPlacement p)
         : grid(g), nx(g.spec.dims[0] + 2), ny(g.spec.dims[1] + 2), nz(g.spec.dims[2] + 2),
-          level(std::floor(iso_value) == iso_value ? iso_value + 0.5 : iso_value), iso(iso_value) {}
+          level(std::floor(iso_value) == iso_value ? iso_value + 0.5 : iso_value), iso(iso_value), placement(p) {}
 
     std::int64_t cell(std::int64_t i, std::int64_t j, std::int64_t k) const {
         if (i < 1 || j < 1 || k < 1 || i > nx - 2 || j > ny - 2 || k > nz - 2) return -1;
@@ -42,6 +44,24 @@ struct Lattice {
     bool crossed(std::int64_t i, std::int64_t j, std::int64_t k, int axis) const {
         if ((axis == 0 && i + 1 >= nx) || (axis == 1 && j + 1 >= ny) || (axis == 2 && k + 1 >= nz)) return false;
         return inside(i, j, k) != inside(i + (axis == 0), j + (axis == 1), k + (axis == 2));
+    }
+    // Where the vertex of a crossed edge lies, as a fraction of the way from (i, j, k) to its
+    // neighbour along `axis`; always strictly inside the edge.
+    double edge_fraction(std::int64_t i, std::int64_t j, std::int64_t k, int axis) const {
+        const std::int64_t di = axis == 0, dj = axis == 1, dk = axis == 2;
+        const double v0 = value(i, j, k), v1 = value(i + di, j + dj, k + dk);
+        if (placement == VertexPlacement::iso) return (level - v0) / (v1 - v0);
+        // Surface placement. A scanned surface fills a layer of cells one or two thick; across
+        // it, along this edge, the counts run (beyond, inside, outside). Half of the layer's
+        // count, beyond + inside, is the level at the layer's middle, so a vertex placed there
+        // sits on the cell face for a one-cell layer and moves in as the layer spreads over two.
+        // Never below the iso level, and never nearer the inside sample than a tenth of the edge
+        // (a vertex strictly inside every edge keeps every triangle's area above zero).
+        const bool first_inside = v0 > iso;
+        const double inside = first_inside ? v0 : v1, outside = first_inside ? v1 : v0;
+        const double beyond = first_inside ? value(i - di, j - dj, k - dk) : value(i + 2 * di, j + 2 * dj, k + 2 * dk);
+        const double surface = std::min(std::max(level, 0.5 * (inside + beyond)), inside - 0.1 * (inside - outside));
+        return (surface - v0) / (v1 - v0);
     }
     int cube_case(std::int64_t i, std::int64_t j, std::int64_t k) const {
         int mask = 0;
@@ -81,8 +101,14 @@ double parse_iso(const std::string& text) {
     return value;
 }
 
-Mesh extract_isosurface(const DensityGrid& grid, double iso) {
-    const Lattice l(grid, iso);
+VertexPlacement parse_placement(const std::string& text) {
+    if (text == "surface") return VertexPlacement::surface;
+    if (text == "iso") return VertexPlacement::iso;
+    throw Error(ErrorKind::usage, "--placement \"" + text + "\": expected surface or iso");
+}
+
+Mesh extract_isosurface(const DensityGrid& grid, double iso, VertexPlacement placement) {
+    const Lattice l(grid, iso, placement);
     const CubeEdges& edges = cube_edges();
     const CaseTable& table = case_table();
 
@@ -123,7 +149,7 @@ Mesh extract_isosurface(const DensityGrid& grid, double iso) {
                     if (!l.crossed(i, j, k, a)) continue;
                     const std::int64_t i1 = i + (a == 0), j1 = j + (a == 1), k1 = k + (a == 2);
                     const double v0 = l.value(i, j, k), v1 = l.value(i1, j1, k1);
-                    const double t = (l.level - v0) / (v1 - v0);
+                    const double t = l.edge_fraction(i, j, k, a);
                     const double p[3] = {static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)};
                     auto& out = mesh.positions[v];
                     // Lattice point p is the centre of cell p - 1: at (p - 0.5) cells from the origin.

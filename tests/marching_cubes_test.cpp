@@ -2,6 +2,7 @@
 // the right topology, identical for any thread count.
 #include "lasmesh/marching_cubes.hpp"
 #include "lasmesh/marching_cubes_table.hpp"
+#include "lasmesh/error.hpp"
 
 #include <doctest/doctest.h>
 #include <tbb/task_arena.h>
@@ -93,17 +94,22 @@ TEST_CASE("the derived case table: every corner configuration gives a closed, or
     CHECK(case_table().triangles[1].size() == 1);
 }
 
+constexpr VertexPlacement both_placements[] = {VertexPlacement::surface, VertexPlacement::iso};
+
 TEST_CASE("a sphere: closed, genus 0, normals outward, vertices on the sphere") {
     const DensityGrid g = field_grid(24, [](double x, double y, double z) { return sphere(x, y, z, 12, 12, 12, 8); });
-    const Mesh m = extract_isosurface(g, 4.5);
-    check_closed_surface(m, 2);
-    for (const auto& tri : m.triangles) {
-        const auto &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
-        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        const double out[3] = {a[0] - 12, a[1] - 12, a[2] - 12};
-        REQUIRE(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0); // from dense inside to empty outside
+    for (VertexPlacement placement : both_placements) {
+        const Mesh m = extract_isosurface(g, 4.5, placement);
+        check_closed_surface(m, 2);
+        for (const auto& tri : m.triangles) {
+            const auto &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
+            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+            const double out[3] = {a[0] - 12, a[1] - 12, a[2] - 12};
+            REQUIRE(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0); // from dense inside to empty outside
+        }
     }
+    const Mesh m = extract_isosurface(g, 4.5, VertexPlacement::iso);
     // Where the field is 4.5 the distance from the centre is 8 - 0.45.
     for (const auto& p : m.positions) {
         const double d = std::sqrt((p[0] - 12) * (p[0] - 12) + (p[1] - 12) * (p[1] - 12) + (p[2] - 12) * (p[2] - 12));
@@ -116,12 +122,12 @@ TEST_CASE("a torus has Euler characteristic 0, a box and touching spheres close 
         const double ring = std::sqrt((x - 16) * (x - 16) + (y - 16) * (y - 16)) - 9;
         return 10 * (4 - std::sqrt(ring * ring + (z - 16) * (z - 16)));
     });
-    check_closed_surface(extract_isosurface(torus, 5), 0);
+    for (VertexPlacement placement : both_placements) check_closed_surface(extract_isosurface(torus, 5, placement), 0);
 
     const DensityGrid box = field_grid(16, [](double x, double y, double z) {
         return (x > 3 && x < 12 && y > 4 && y < 13 && z > 2 && z < 10) ? 50 : 0;
     });
-    check_closed_surface(extract_isosurface(box, 25), 2);
+    for (VertexPlacement placement : both_placements) check_closed_surface(extract_isosurface(box, 25, placement), 2);
 
     // Two spheres that just touch: one or two pieces, but always closed and oriented.
     const DensityGrid twins = field_grid(32, [](double x, double y, double z) {
@@ -140,13 +146,15 @@ TEST_CASE("random smooth fields and integer iso ties give closed, oriented surfa
         const DensityGrid g = field_grid(20, [seed](double x, double y, double z) {
             return 6 + 5 * std::sin(0.7 * x + seed) * std::cos(0.5 * y - seed) + 4 * std::sin(0.6 * z * seed);
         });
-        for (double iso : {3.0, 6.0, 7.25}) { // integers tie with many counts: inside means > iso
-            CAPTURE(iso);
-            const Topology t = topology(extract_isosurface(g, iso));
-            CHECK(t.closed);
-            CHECK(t.oriented);
-            CHECK(!t.degenerate);
-        }
+        for (double iso : {3.0, 6.0, 7.25}) // integers tie with many counts: inside means > iso
+            for (VertexPlacement placement : both_placements) {
+                CAPTURE(iso);
+                CAPTURE(static_cast<int>(placement));
+                const Topology t = topology(extract_isosurface(g, iso, placement));
+                CHECK(t.closed);
+                CHECK(t.oriented);
+                CHECK(!t.degenerate);
+            }
     }
 }
 
@@ -157,7 +165,7 @@ TEST_CASE("the mesh is identical for 1, 2 and 16 threads") {
     auto run = [&](int threads) {
         tbb::task_arena arena(threads);
         Mesh m;
-        arena.execute([&] { m = extract_isosurface(g, 8); });
+        arena.execute([&] { m = extract_isosurface(g, 8); }); // surface placement: reads beyond the edge
         return m;
     };
     const Mesh one = run(1);
@@ -167,6 +175,38 @@ TEST_CASE("the mesh is identical for 1, 2 and 16 threads") {
         CHECK(m.positions == one.positions);
         CHECK(m.triangles == one.triangles);
     }
+}
+
+TEST_CASE("surface placement puts a scanned sheet's mesh tight around it") {
+    // A horizontal sheet of points: a layer of cells with 40 points each at k = 5 in a 12^3
+    // grid of unit cells (layer centre z = 5.5). The plain level set at iso 4 wraps it at
+    // z = 5.5 +- 0.89; surface placement puts both faces on the layer's cell faces, +- 0.5.
+    auto sheet = [](std::uint64_t below, std::uint64_t at) {
+        DensityGrid g;
+        g.spec.dims = {12, 12, 12};
+        g.count.assign(g.spec.cell_count(), 0);
+        for (std::uint64_t c = 0; c < 144; ++c) g.count[4 * 144 + c] = below, g.count[5 * 144 + c] = at;
+        return g;
+    };
+    auto z_range = [](const Mesh& m) {
+        float lo = 1e9f, hi = -1e9f;
+        for (const auto& p : m.positions)
+            if (p[0] > 2 && p[0] < 10 && p[1] > 2 && p[1] < 10) lo = std::min(lo, p[2]), hi = std::max(hi, p[2]);
+        return std::pair{lo, hi};
+    };
+    const auto [iso_lo, iso_hi] = z_range(extract_isosurface(sheet(0, 40), 4, VertexPlacement::iso));
+    CHECK(iso_lo == doctest::Approx(5.5 - (40 - 4.5) / 40.0));
+    CHECK(iso_hi == doctest::Approx(5.5 + (40 - 4.5) / 40.0));
+    const auto [lo, hi] = z_range(extract_isosurface(sheet(0, 40), 4));
+    CHECK(lo == doctest::Approx(5.0));
+    CHECK(hi == doctest::Approx(6.0));
+    // Spread evenly over two layers (the sheet on their shared face, z = 5): each face moves in
+    // towards its layer's centre, as far as a tenth of an edge from it.
+    const auto [lo2, hi2] = z_range(extract_isosurface(sheet(20, 20), 4));
+    CHECK(lo2 == doctest::Approx(4.5 - 0.1));
+    CHECK(hi2 == doctest::Approx(5.5 + 0.1));
+    CHECK(parse_placement("iso") == VertexPlacement::iso);
+    CHECK_THROWS_AS(parse_placement("middle"), Error);
 }
 
 TEST_CASE("vertex colours weigh each cell's mean colour by its count") {
@@ -179,7 +219,7 @@ TEST_CASE("vertex colours weigh each cell's mean colour by its count") {
     g.green = {0, 0};
     g.blue = {0, 10 * 255};
     g.color_max_word = 255;
-    const Mesh m = extract_isosurface(g, 4.5);
+    const Mesh m = extract_isosurface(g, 4.5, VertexPlacement::iso);
     REQUIRE(m.colors.size() == m.positions.size());
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
         const float x = m.positions[v][0];

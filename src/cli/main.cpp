@@ -1,5 +1,6 @@
 // The `lasmesh` command: parses options with CLI11, runs one library entry point per
 // subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
+#include "compare_command.hpp"
 #include "grid_command.hpp"
 #include "info_command.hpp"
 #include "mesh_command.hpp"
@@ -23,7 +24,8 @@ int main(int argc, char** argv) {
     app.footer("Examples:\n"
                "  lasmesh deck.las -o deck.ply\n"
                "  zstdcat scan.las.zst | lasmesh - -o scan.ply --grid 512\n"
-               "  lasmesh info --scan deck.las");
+               "  lasmesh info --scan deck.las\n"
+               "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
 
     lasmesh::cli::MeshOptions mesh;
     lasmesh::cli::add_mesh_options(app, mesh);
@@ -44,6 +46,9 @@ int main(int argc, char** argv) {
     lasmesh::cli::add_grid_options(*grid_command, grid.grid);
     grid_command->add_flag("--json", grid.json, "One JSON object instead of text");
 
+    lasmesh::cli::CompareCommandOptions compare;
+    CLI::App* compare_command = lasmesh::cli::add_compare_command(app, compare);
+
     CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
 
     try {
@@ -55,6 +60,7 @@ int main(int argc, char** argv) {
     try {
         if (*info_command) lasmesh::cli::run_info(info, std::cout);
         if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
+        if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);
         if (app.get_subcommands().empty()) {
             if (mesh.input.empty()) {

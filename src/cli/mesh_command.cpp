@@ -37,6 +37,10 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
+    app.add_option("--placement", o.placement,
+                   "Vertices on the scanned surface (surface) or on the iso level set as in classic "
+                   "marching cubes (iso)")
+        ->capture_default_str();
     app.add_option("--min-piece", o.min_piece,
                    "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
                    "whole mesh's diagonal (5%), a length in the file's units, or 0 to keep all")
@@ -55,6 +59,7 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     const double requested_iso = parse_iso(o.iso);
     const MinPiece min_piece = parse_min_piece(o.min_piece);
+    const VertexPlacement placement = parse_placement(o.placement);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -66,7 +71,7 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
 
     const auto extract_start = std::chrono::steady_clock::now();
     const double iso = requested_iso < 0 ? automatic_iso(grid) : requested_iso;
-    Mesh mesh = extract_isosurface(grid, iso);
+    Mesh mesh = extract_isosurface(grid, iso, placement);
     const PieceCount pieces = remove_small_pieces(mesh, min_piece);
     const double t_extract = seconds_since(extract_start);
 
@@ -81,7 +86,8 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
             << format_double(s.cell_size) << "\n"
             << "iso            " << format_double(iso) << (requested_iso < 0 ? " (auto)" : "")
-            << " points per cell\n"
+            << " points per cell, vertices placed on the " << (placement == VertexPlacement::iso ? "iso level" : "surface")
+            << "\n"
             << "origin         " << format_double(mesh.origin[0]) << " " << format_double(mesh.origin[1]) << " "
             << format_double(mesh.origin[2]) << " (PLY positions are relative to it)\n"
             << "pieces         " << pieces.pieces << " connected, " << pieces.removed << " removed ("

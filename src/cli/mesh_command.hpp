@@ -14,6 +14,7 @@ struct MeshOptions {
     std::vector<std::string> outputs;
     GridOptions grid;
     std::string iso = "auto";
+    std::string placement = "surface";
     std::string min_piece = "5%";
     bool ascii = false;
     int threads = 0; // 0: all cores

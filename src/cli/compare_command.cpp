@@ -1,0 +1,114 @@
+// `lasmesh compare`: reads the mesh, streams the cloud, prints the distance statistics.
+#include "compare_command.hpp"
+
+#include "json_writer.hpp"
+#include "lasmesh/compare.hpp"
+#include "lasmesh/error.hpp"
+#include "lasmesh/output_file.hpp"
+#include "lasmesh/ply_reader.hpp"
+#include "lasmesh/ply_writer.hpp"
+
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+
+namespace lasmesh::cli {
+
+namespace {
+
+Mesh read_mesh(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".ply") return read_ply(path);
+    throw Error(ErrorKind::usage, "\"" + path + "\": unknown mesh extension, expected .ply");
+}
+
+void write_stats(JsonWriter& json, const DistanceStats& s) {
+    json.begin_object();
+    json.key("mean").value(s.mean).key("std").value(s.std).key("median").value(s.median);
+    json.key("p95").value(s.p95).key("p99").value(s.p99).key("max").value(s.max);
+    if (s.within_1_cell >= 0)
+        json.key("within_1_cell").value(s.within_1_cell).key("within_2_cells").value(s.within_2_cells);
+    json.end_object();
+}
+
+void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
+    out << name << "mean " << s.mean << ", std " << s.std << ", median " << s.median << ", p95 " << s.p95
+        << ", p99 " << s.p99 << ", max " << s.max;
+    if (s.within_1_cell >= 0)
+        out << "; within 1 cell " << 100 * s.within_1_cell << "%, 2 cells " << 100 * s.within_2_cells << "%";
+    out << "\n";
+}
+
+} // namespace
+
+CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
+    CLI::App* c = app.add_subcommand("compare", "Distances between a mesh and the point cloud it came from, both ways");
+    c->add_option("MESH", o.mesh, "Mesh: a .ply (lasmesh's or any triangle PLY)")->required();
+    c->add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
+    c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
+        ->capture_default_str()
+        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 34));
+    c->add_option("--mesh-samples", o.mesh_samples, "Points sampled on the mesh for the mesh-to-cloud distances")
+        ->capture_default_str()
+        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 32));
+    c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
+        ->check(CLI::PositiveNumber);
+    c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud");
+    c->add_option("--heatmap-scale", o.heatmap_scale, "Distance shown red in the heat map (default: 2 cells, or the p99)")
+        ->check(CLI::PositiveNumber);
+    c->add_flag("--json", o.json, "One JSON object instead of text");
+    return c;
+}
+
+void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream& log) {
+    if (!o.heatmap.empty()) check_output_folder(o.heatmap);
+    Mesh mesh = read_mesh(o.mesh);
+    LasReader cloud(o.input);
+    CompareOptions options;
+    options.samples = o.samples;
+    options.mesh_samples = o.mesh_samples;
+    options.cell_size = o.cell_size;
+    const CompareResult r = compare(mesh, cloud, options);
+
+    if (o.json) {
+        JsonWriter json;
+        json.begin_object();
+        json.key("cloud_to_mesh");
+        write_stats(json, r.cloud_to_mesh);
+        json.key("mesh_to_cloud");
+        write_stats(json, r.mesh_to_cloud);
+        json.key("points_read").value(r.points_read).key("points_used").value(r.points_used);
+        json.key("samples_used").value(r.samples_used);
+        json.key("cell_size");
+        if (r.cell_size > 0) json.value(r.cell_size);
+        else json.value(std::numeric_limits<double>::quiet_NaN()); // null: unknown
+        json.end_object();
+        out << json.str() << "\n";
+    } else {
+        out << std::setprecision(4) << "mesh           " << o.mesh << ": " << mesh.positions.size() << " vertices, "
+            << mesh.triangles.size() << " triangles\n"
+            << "cloud          " << cloud.stream().name() << ": " << r.points_read << " points, " << r.points_used
+            << " used\n"
+            << "cell size      " << (r.cell_size > 0 ? format_double(r.cell_size) : "unknown (give --cell-size)") << "\n";
+        print_stats(out, "cloud to mesh  ", r.cloud_to_mesh);
+        out << "               (" << r.points_used << " points)\n";
+        print_stats(out, "mesh to cloud  ", r.mesh_to_cloud);
+        out << "               (" << r.samples_used << " samples on the surface)\n";
+    }
+
+    if (!o.heatmap.empty()) {
+        std::vector<double> sorted = r.vertex_distance;
+        const double scale = o.heatmap_scale > 0 ? o.heatmap_scale
+                             : r.cell_size > 0  ? 2 * r.cell_size
+                                                : summarize(sorted, 0).p99;
+        mesh.colors.resize(mesh.positions.size());
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.colors[v] = heat_color(r.vertex_distance[v], scale);
+        write_ply(mesh, o.heatmap, false);
+        log << "heat map       " << o.heatmap << ": blue 0, cyan " << format_double(scale / 4) << ", green "
+            << format_double(scale / 2) << ", yellow " << format_double(3 * scale / 4) << ", red "
+            << format_double(scale) << " and beyond (distance from each vertex to the nearest point)\n";
+    }
+}
+
+} // namespace lasmesh::cli

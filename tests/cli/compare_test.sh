@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# `lasmesh compare` end to end, and the fidelity the mesher promises on the deck scene: at
+# --grid 256 the mesh stays on average within about half a cell of the points, both ways,
+# covers what they cover, and leaves the floating outlier clusters out.
+# Usage: compare_test.sh LASMESH LASGEN
+set -u
+lasmesh=$1 lasgen=$2 here=$(dirname "$0")
+dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
+passed=0 failed=0
+check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+contains() { grep -q -- "$2" "$1"; }
+field() { python3 -c "import json, sys; r = json.load(open(sys.argv[1])); print(eval('r' + sys.argv[2]))" "$@"; }
+
+"$lasgen" --scene deck --points 1000000 -o "$dir/deck.las"
+"$lasmesh" "$dir/deck.las" --grid 256 -o "$dir/deck.ply" 2> /dev/null
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --json > "$dir/c.json"
+check "compare succeeds" test -s "$dir/c.json"
+cell=$(field "$dir/c.json" '["cell_size"]')
+c2m=$(field "$dir/c.json" '["cloud_to_mesh"]["mean"]')
+m2c=$(field "$dir/c.json" '["mesh_to_cloud"]["mean"]')
+echo "deck at grid 256: cell $cell, mean cloud to mesh $c2m, mesh to cloud $m2c"
+check "cloud to mesh: mean within about half a cell" python3 -c "assert $c2m < 0.55 * $cell"
+check "mesh to cloud: mean within about half a cell" python3 -c "assert $m2c < 0.55 * $cell"
+# Coverage: every point but the outlier clusters (0.3% of them) lies within two cells.
+check "every surface covered" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["within_2_cells"]') > 0.995"
+check "outlier clusters not meshed (metres away)" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["max"]') > 5"
+check "every sample used" test "$(field "$dir/c.json" '["points_used"]')" = 1000000
+# The classic level-set placement wraps the thin surfaces a cell wide: the measure tells.
+"$lasmesh" "$dir/deck.las" --grid 256 --placement iso -o "$dir/iso.ply" 2> /dev/null
+"$lasmesh" compare "$dir/iso.ply" "$dir/deck.las" --json > "$dir/iso.json"
+check "iso placement measured farther" python3 -c "assert $(field "$dir/iso.json" '["cloud_to_mesh"]["mean"]') > 1.5 * $c2m"
+
+# Text report, a sample of the points, a heat map; the same numbers from stdin.
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --heatmap "$dir/heat.ply" > "$dir/c.txt" 2> "$dir/log.txt"
+check "text report names both directions" contains "$dir/c.txt" "mesh to cloud"
+check "text report gives the points used" contains "$dir/c.txt" "1000000 points, 50000 used"
+check "heat map legend" contains "$dir/log.txt" "red 0.5"
+check "heat map is a closed coloured mesh" python3 "$here/ply_check.py" "$dir/heat.ply" 0,0,0 0,0,0 1e9
+gzip -c "$dir/deck.las" | "$lasmesh" compare "$dir/deck.ply" - --samples 50000 > "$dir/stdin.txt" 2> /dev/null
+check "stdin and gzip give the same report" diff <(tail -n +3 "$dir/c.txt") <(tail -n +3 "$dir/stdin.txt")
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/a.json"
+OMP_NUM_THREADS=1 taskset -c 0 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/b.json"
+check "one core gives the same numbers" cmp -s "$dir/a.json" "$dir/b.json"
+
+# Errors.
+"$lasmesh" compare "$dir/missing.ply" "$dir/deck.las" 2> "$dir/err.txt"; rc=$?
+check "missing mesh exits 2" test "$rc" -eq 2
+check "missing mesh named" contains "$dir/err.txt" "missing.ply"
+"$lasmesh" compare "$dir/deck.las" "$dir/deck.las" 2> "$dir/err.txt"; rc=$?
+check "unknown mesh extension exits 1" test "$rc" -eq 1
+head -c 1000 "$dir/deck.ply" > "$dir/cut.ply"
+"$lasmesh" compare "$dir/cut.ply" "$dir/deck.las" 2> "$dir/err.txt"; rc=$?
+check "truncated mesh exits 2" test "$rc" -eq 2
+check "truncated mesh: says where" contains "$dir/err.txt" "cut.ply: byte"
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/no/dir/h.ply" 2> /dev/null; rc=$?
+check "heat map into a missing folder exits 4" test "$rc" -eq 4
+
+echo "cli compare: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
