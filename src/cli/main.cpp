@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(0, 1);
     app.footer("Examples:\n"
                "  lasmesh deck.las -o deck.ply\n"
+               "  lasmesh deck.las -o deck.ply -o deck.drc -o deck.glb --grid 512\n"
                "  zstdcat scan.las.zst | lasmesh - -o scan.ply --grid 512\n"
                "  lasmesh info --scan deck.las\n"
                "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");

@@ -1,7 +1,9 @@
-// The main job: `lasmesh INPUT -o OUT.ply`: read, accumulate, extract, write, with a summary.
+// The main job: `lasmesh INPUT -o OUT.ply -o OUT.drc -o OUT.glb`: read, accumulate, extract once,
+// write each output, with a summary.
 #pragma once
 
 #include "grid_options.hpp"
+#include "lasmesh/draco_writer.hpp"
 
 #include <ostream>
 #include <string>
@@ -11,12 +13,13 @@ namespace lasmesh::cli {
 
 struct MeshOptions {
     std::string input;
-    std::vector<std::string> outputs;
+    std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
     std::string iso = "auto";
     std::string placement = "surface";
     std::string min_piece = "5%";
     bool ascii = false;
+    DracoOptions draco; // for .drc and .glb outputs
     int threads = 0; // 0: all cores
 };
 

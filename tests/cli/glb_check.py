@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""Checks a .glb as lasmesh writes it, independently of lasmesh's own reader: the GLB container
+(header, 4-byte aligned JSON and BIN chunks), the glTF 2.0 members a Draco-compressed mesh needs
+(KHR_draco_mesh_compression used and required, accessors without bufferView, POSITION bounds,
+normalized 16-bit COLOR_0, the Z-up to Y-up node). Writes the primitive's Draco bytes to DRACO_OUT
+and prints the mesh origin (the node translation turned back to Z-up), the POSITION count and the
+index count.
+Usage: glb_check.py FILE.glb DRACO_OUT"""
+import json
+import math
+import struct
+import sys
+
+path, draco_out = sys.argv[1], sys.argv[2]
+data = open(path, "rb").read()
+magic, version, length = struct.unpack_from("<4sII", data, 0)
+assert magic == b"glTF" and version == 2, (magic, version)
+assert length == len(data), (length, len(data))
+json_length, json_type = struct.unpack_from("<II", data, 12)
+assert json_type == 0x4E4F534A and json_length % 4 == 0, (hex(json_type), json_length)
+gltf = json.loads(data[20 : 20 + json_length])  # fails on padding other than spaces (NUL, say)
+bin_at = 20 + json_length
+bin_length, bin_type = struct.unpack_from("<II", data, bin_at)
+assert bin_type == 0x004E4942 and bin_length % 4 == 0 and bin_at + 8 + bin_length == len(data)
+binary = data[bin_at + 8 :]
+
+assert gltf["asset"]["version"] == "2.0"
+ext = "KHR_draco_mesh_compression"
+assert ext in gltf["extensionsUsed"] and ext in gltf["extensionsRequired"]
+scene = gltf["scenes"][gltf.get("scene", 0)]
+assert scene["nodes"] == [0]
+node = gltf["nodes"][0]
+h = math.sqrt(0.5)
+assert all(abs(a - b) < 1e-12 for a, b in zip(node["rotation"], [-h, 0, 0, h])), node["rotation"]
+t = node["translation"]
+assert len(t) == 3
+
+mesh = gltf["meshes"][node["mesh"]]
+assert len(mesh["primitives"]) == 1
+primitive = mesh["primitives"][0]
+assert primitive.get("mode", 4) == 4
+material = gltf["materials"][primitive["material"]]["pbrMetallicRoughness"]
+assert material["metallicFactor"] == 0 and material["roughnessFactor"] == 1
+draco = primitive["extensions"][ext]
+assert set(draco["attributes"]) == set(primitive["attributes"]), "extension and primitive attributes differ"
+accessors = gltf["accessors"]
+position = accessors[primitive["attributes"]["POSITION"]]
+assert position["componentType"] == 5126 and position["type"] == "VEC3"
+assert len(position["min"]) == 3 and len(position["max"]) == 3
+assert all(lo <= hi for lo, hi in zip(position["min"], position["max"]))
+if "COLOR_0" in primitive["attributes"]:
+    color = accessors[primitive["attributes"]["COLOR_0"]]
+    assert color["componentType"] == 5123 and color.get("normalized") is True and color["type"] == "VEC3"
+    assert color["count"] == position["count"]
+indices = accessors[primitive["indices"]]
+assert indices["componentType"] in (5121, 5123, 5125) and indices["type"] == "SCALAR" and indices["count"] % 3 == 0
+for a in accessors:
+    assert "bufferView" not in a, "a Draco accessor with a bufferView"
+
+view = gltf["bufferViews"][draco["bufferView"]]
+assert view["buffer"] == 0 and len(gltf["buffers"]) == 1 and "uri" not in gltf["buffers"][0]
+assert gltf["buffers"][0]["byteLength"] <= bin_length <= gltf["buffers"][0]["byteLength"] + 3
+start = view.get("byteOffset", 0)
+assert start + view["byteLength"] <= gltf["buffers"][0]["byteLength"]
+open(draco_out, "wb").write(binary[start : start + view["byteLength"]])
+# glTF (x, y, z) = LAS (x, z, -y): the origin is (tx, -tz, ty).
+print(f"{t[0]!r},{-t[2]!r},{t[1]!r} {position['count']} {indices['count']}")
