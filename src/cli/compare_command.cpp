@@ -3,6 +3,7 @@
 
 #include "json_writer.hpp"
 #include "lasmesh/compare.hpp"
+#include "lasmesh/draco_reader.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/output_file.hpp"
 #include "lasmesh/ply_reader.hpp"
@@ -20,7 +21,9 @@ Mesh read_mesh(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (ext == ".ply") return read_ply(path);
-    throw Error(ErrorKind::usage, "\"" + path + "\": unknown mesh extension, expected .ply");
+    if (ext == ".drc") return read_draco(path);
+    if (ext == ".glb") return read_glb(path);
+    throw Error(ErrorKind::usage, "\"" + path + "\": unknown mesh extension, expected .ply, .drc or .glb");
 }
 
 void write_stats(JsonWriter& json, const DistanceStats& s) {
@@ -44,7 +47,7 @@ void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
 
 CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     CLI::App* c = app.add_subcommand("compare", "Distances between a mesh and the point cloud it came from, both ways");
-    c->add_option("MESH", o.mesh, "Mesh: a .ply (lasmesh's or any triangle PLY)")->required();
+    c->add_option("MESH", o.mesh, "Mesh: .ply (lasmesh's or any triangle PLY), or lasmesh's .drc or .glb")->required();
     c->add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
     c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
         ->capture_default_str()

@@ -12,7 +12,7 @@ contains() { grep -q -- "$2" "$1"; }
 field() { python3 -c "import json, sys; r = json.load(open(sys.argv[1])); print(eval('r' + sys.argv[2]))" "$@"; }
 
 "$lasgen" --scene deck --points 1000000 -o "$dir/deck.las"
-"$lasmesh" "$dir/deck.las" --grid 256 -o "$dir/deck.ply" 2> /dev/null
+"$lasmesh" "$dir/deck.las" --grid 256 -o "$dir/deck.ply" -o "$dir/deck.drc" -o "$dir/deck.glb" 2> /dev/null
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --json > "$dir/c.json"
 check "compare succeeds" test -s "$dir/c.json"
 cell=$(field "$dir/c.json" '["cell_size"]')
@@ -25,6 +25,12 @@ check "mesh to cloud: mean within about half a cell" python3 -c "assert $m2c < 0
 check "every surface covered" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["within_2_cells"]') > 0.995"
 check "outlier clusters not meshed (metres away)" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["max"]') > 5"
 check "every sample used" test "$(field "$dir/c.json" '["points_used"]')" = 1000000
+# The compressed outputs measure the same, to within their quantization step (under a tenth
+# of a cell).
+for ext in drc glb; do
+  "$lasmesh" compare "$dir/deck.$ext" "$dir/deck.las" --cell-size "$cell" --json > "$dir/$ext.json"
+  check "compare reads the .$ext" python3 -c "assert abs($(field "$dir/$ext.json" '["cloud_to_mesh"]["mean"]') - $c2m) < 0.02 * $cell"
+done
 # The classic level-set placement wraps the thin surfaces a cell wide: the measure tells.
 "$lasmesh" "$dir/deck.las" --grid 256 --placement iso -o "$dir/iso.ply" 2> /dev/null
 "$lasmesh" compare "$dir/iso.ply" "$dir/deck.las" --json > "$dir/iso.json"
