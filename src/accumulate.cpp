@@ -160,6 +160,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             const std::size_t n = reader.read_records(staging[s]);
             if (n == 0) break;
             out.points_read += n;
+            if (options.on_slice) options.on_slice(out.points_read);
             queue.enqueueWriteBuffer(uploads[s], CL_FALSE, 0, n * length, staging[s].data(), nullptr, &uploaded[s]);
             kernel.setArg(0, uploads[s]);
             kernel.setArg(1, static_cast<cl_uint>(n));

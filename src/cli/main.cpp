@@ -4,6 +4,7 @@
 #include "grid_command.hpp"
 #include "info_command.hpp"
 #include "mesh_command.hpp"
+#include "progress.hpp"
 #include "lasmesh/error.hpp"
 
 #include <CLI/CLI.hpp>
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
                 std::cerr << app.help();
                 return static_cast<int>(lasmesh::ErrorKind::usage);
             }
+            mesh.progress = lasmesh::cli::stderr_is_terminal();
             lasmesh::cli::run_mesh(mesh, std::cerr);
         }
         std::cout.flush();

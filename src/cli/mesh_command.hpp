@@ -21,6 +21,9 @@ struct MeshOptions {
     bool ascii = false;
     DracoOptions draco; // for .drc and .glb outputs
     int threads = 0; // 0: all cores
+    std::string report; // --report FILE.json
+    bool quiet = false, verbose = false;
+    bool progress = false; // draw a progress line (set when stderr is a terminal)
 };
 
 void add_mesh_options(CLI::App& app, MeshOptions& options);
