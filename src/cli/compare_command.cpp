@@ -61,6 +61,8 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("--heatmap-scale", o.heatmap_scale, "Distance shown red in the heat map (default: 2 cells, or the p99)")
         ->check(CLI::PositiveNumber);
     c->add_flag("--json", o.json, "One JSON object instead of text");
+    c->footer("Examples:\n  lasmesh compare deck.ply deck.las\n  lasmesh compare deck.drc deck.las --json --samples 1000000\n"
+              "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
     return c;
 }
 

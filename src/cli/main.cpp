@@ -23,17 +23,26 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
     app.require_subcommand(0, 1);
     app.footer("Examples:\n"
-               "  lasmesh deck.las -o deck.ply\n"
-               "  lasmesh deck.las -o deck.ply -o deck.drc -o deck.glb --grid 512\n"
-               "  zstdcat scan.las.zst | lasmesh - -o scan.ply --grid 512\n"
-               "  lasmesh info --scan deck.las\n"
-               "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
+               "  lasmesh deck.las -o deck.ply -o deck.drc          PLY to edit, Draco to share, one pass\n"
+               "  curl -s https://example.org/deck.las | lasmesh - -o deck.glb\n"
+               "  zstdcat scan.las.zst | lasmesh - -o scan.ply      gzip/bzip2/xz/zstd are also read directly\n"
+               "  laszip -i in.laz -olas -stdout | lasmesh - -o in.ply\n"
+               "  lasmesh deck.las -o deck.ply --grid 512           finer: 512 cells along the longest axis\n"
+               "  lasmesh valve.las -o valve.ply --voxel 0.01       cells of 1 cm, for a small part\n"
+               "  lasmesh deck.las -o deck.ply --iso 8              fill only cells with more than 8 points\n"
+               "  lasmesh info --scan deck.las                      header facts, and the real bounds\n"
+               "  lasmesh compare deck.ply deck.las --heatmap d.ply how far the mesh is from the points\n"
+               "\n"
+               "Exit codes: 0 success, 1 usage, 2 bad input, 3 OpenCL device, 4 output, 5 internal error.\n"
+               "More: man lasmesh, and docs/guide.md.");
 
     lasmesh::cli::MeshOptions mesh;
     lasmesh::cli::add_mesh_options(app, mesh);
 
     lasmesh::cli::InfoOptions info;
     CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
+    info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
+                         "  xzcat deck.las.xz | lasmesh info -");
     info_command->add_option("INPUT", info.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
         ->required();
     info_command->add_flag("--json", info.json, "One JSON object instead of text");
@@ -44,6 +53,7 @@ int main(int argc, char** argv) {
 
     lasmesh::cli::GridCommandOptions grid;
     CLI::App* grid_command = app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
+    grid_command->footer("Examples:\n  lasmesh grid deck.las --grid 512\n  lasmesh grid deck.las --voxel 0.05 --json");
     grid_command->add_option("INPUT", grid.input, "LAS file, or - for standard input")->required();
     lasmesh::cli::add_grid_options(*grid_command, grid.grid);
     grid_command->add_flag("--json", grid.json, "One JSON object instead of text");

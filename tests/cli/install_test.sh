@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# `cmake --install` gives the command, the man page, the headers and a CMake package that a
+# separate project finds with find_package(lasmesh) and links.
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR LASGEN
+set -u
+build=$1 source=$2 lasgen=$3
+dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
+passed=0 failed=0
+check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+
+cmake --install "$build" --prefix "$dir/prefix" > "$dir/install.log"
+check "the command is installed and runs" "$dir/prefix/bin/lasmesh" --version
+check "the man page is installed" test -s "$dir/prefix/share/man/man1/lasmesh.1"
+check "the man page renders" bash -c "groff -man -Tutf8 -P-cbou -ww '$dir/prefix/share/man/man1/lasmesh.1' 2>&1 | grep -q '^EXIT STATUS'"
+check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/marching_cubes.hpp"
+check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
+check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
+
+cmake -S "$source/tests/consumer" -B "$dir/consumer" -DCMAKE_PREFIX_PATH="$dir/prefix" -DCMAKE_BUILD_TYPE=Release \
+  > "$dir/configure.log" 2>&1
+check "find_package(lasmesh) configures" test $? -eq 0 || cat "$dir/configure.log"
+cmake --build "$dir/consumer" > "$dir/build.log" 2>&1
+check "the consumer builds and links" test $? -eq 0 || tail -20 "$dir/build.log"
+"$lasgen" --scene sphere --points 20000 -o "$dir/s.las"
+"$dir/consumer/consumer" "$dir/s.las" "$dir/s.ply" > "$dir/out.txt"
+check "the consumer reads and meshes" grep -q "^20000 points, [1-9][0-9]* triangles" "$dir/out.txt"
+check "the consumer's PLY is written" test -s "$dir/s.ply"
+
+echo "install: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
