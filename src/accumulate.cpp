@@ -86,8 +86,9 @@ MemoryNeed memory_need(const GridSpec& grid, bool has_color, std::uint64_t slice
     const std::uint64_t grid_bytes = grid.cell_count() * 8 * (has_color ? 4 : 1);
     need.largest_buffer = grid_bytes;
     need.device_bytes = grid_bytes + slots * slice_bytes;
-    // The read-back copy and the per-channel grid it is split into, plus the staging slices.
-    need.host_bytes = 2 * grid_bytes + slots * slice_bytes;
+    // The per-channel grid the device's is read back into (a 16 MiB block at a time), plus the
+    // staging slices.
+    need.host_bytes = grid_bytes + (16ull << 20) + slots * slice_bytes;
     return need;
 }
 
@@ -169,21 +170,25 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             queue.flush();
         }
 
-        std::vector<std::uint64_t> sums(cells * counters);
-        queue.enqueueReadBuffer(grid, CL_FALSE, 0, grid_bytes, sums.data());
         cl_uint stat_words[4] = {};
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
-        queue.finish();
         out.points_outside = join64(stat_words);
         out.color_max_word = stat_words[2];
+        // Read back in blocks and split the interleaved counters as they come, so the host never
+        // holds a second whole copy of the grid (with PoCL the device buffer is host memory too).
         out.count.resize(cells);
-        for (std::uint64_t c = 0; c < cells; ++c) out.count[c] = sums[c * counters];
-        if (color) {
-            out.red.resize(cells), out.green.resize(cells), out.blue.resize(cells);
-            for (std::uint64_t c = 0; c < cells; ++c) {
-                out.red[c] = sums[c * 4 + 1];
-                out.green[c] = sums[c * 4 + 2];
-                out.blue[c] = sums[c * 4 + 3];
+        if (color) out.red.resize(cells), out.green.resize(cells), out.blue.resize(cells);
+        const std::uint64_t block_cells = std::max<std::uint64_t>(1, (16ull << 20) / (counters * 8));
+        std::vector<std::uint64_t> block(block_cells * counters);
+        for (std::uint64_t first = 0; first < cells; first += block_cells) {
+            const std::uint64_t n = std::min(block_cells, cells - first);
+            queue.enqueueReadBuffer(grid, CL_TRUE, first * counters * 8, n * counters * 8, block.data());
+            for (std::uint64_t c = 0; c < n; ++c) {
+                out.count[first + c] = block[c * counters];
+                if (!color) continue;
+                out.red[first + c] = block[c * 4 + 1];
+                out.green[first + c] = block[c * 4 + 2];
+                out.blue[first + c] = block[c * 4 + 3];
             }
         }
     } catch (const cl::Error& e) {
