@@ -87,11 +87,16 @@ double box_distance_squared(const Bvh::Node& n, const Vec3& p) {
 }
 
 // The smallest squared distance `item_distance_sq` gives over the tree's items, visiting the
-// nearer child first and skipping every box farther than the best distance so far.
+// nearer child first and skipping every box farther than the best distance so far. `hint`, when
+// given, names an item likely to be near (the previous query's answer, for queries in scan
+// order): starting from its distance prunes most boxes at once. It is updated to the nearest
+// item. The distance found does not depend on the hint.
 template <class ItemDistance>
-double nearest_squared(const Bvh& t, const Vec3& p, ItemDistance item_distance_sq) {
+double nearest_squared(const Bvh& t, const Vec3& p, ItemDistance item_distance_sq, std::uint32_t* hint) {
     if (t.nodes.empty()) return infinity;
     double best = infinity;
+    std::uint32_t best_item = 0;
+    if (hint && *hint < t.items.size()) best = item_distance_sq(*hint), best_item = *hint;
     std::pair<std::uint32_t, double> stack[64];
     int depth = 0;
     stack[depth++] = {0, box_distance_squared(t.nodes[0], p)};
@@ -100,7 +105,10 @@ double nearest_squared(const Bvh& t, const Vec3& p, ItemDistance item_distance_s
         if (box_distance >= best) continue;
         const Bvh::Node& n = t.nodes[index];
         if (n.count > 0) {
-            for (std::uint32_t i = n.first; i < n.first + n.count; ++i) best = std::min(best, item_distance_sq(t.items[i]));
+            for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+                const double d = item_distance_sq(t.items[i]);
+                if (d < best) best = d, best_item = t.items[i];
+            }
             continue;
         }
         double near = box_distance_squared(t.nodes[n.first], p), far = box_distance_squared(t.nodes[n.first + 1], p);
@@ -109,6 +117,7 @@ double nearest_squared(const Bvh& t, const Vec3& p, ItemDistance item_distance_s
         stack[depth++] = {far_index, far};
         stack[depth++] = {near_index, near};
     }
+    if (hint) *hint = best_item;
     return best;
 }
 
@@ -139,13 +148,13 @@ TriangleSearch::TriangleSearch(const Mesh& mesh) : mesh_(mesh) {
     tree_ = build_bvh(boxes);
 }
 
-double TriangleSearch::distance(const Vec3& p) const {
+double TriangleSearch::distance(const Vec3& p, std::uint32_t* hint) const {
     const auto& P = mesh_.positions;
     return std::sqrt(nearest_squared(tree_, p, [&](std::uint32_t t) {
         const auto& tri = mesh_.triangles[t];
         const double d = point_triangle_distance(p, to_vec(P[tri[0]]), to_vec(P[tri[1]]), to_vec(P[tri[2]]));
         return d * d;
-    }));
+    }, hint));
 }
 
 PointSearch::PointSearch(std::vector<Point3f> points) : points_(std::move(points)) {
@@ -154,11 +163,11 @@ PointSearch::PointSearch(std::vector<Point3f> points) : points_(std::move(points
     tree_ = build_bvh(boxes);
 }
 
-double PointSearch::distance(const Vec3& p) const {
+double PointSearch::distance(const Vec3& p, std::uint32_t* hint) const {
     return std::sqrt(nearest_squared(tree_, p, [&](std::uint32_t i) {
         const Vec3 d = sub(p, to_vec(points_[i]));
         return dot(d, d);
-    }));
+    }, hint));
 }
 
 std::vector<Vec3> sample_surface(const Mesh& mesh, std::size_t count) {

@@ -13,7 +13,7 @@ sizes=("${@:-1000000 10000000 50000000}")
 read -r -a sizes <<< "${sizes[*]}"
 mkdir -p out/bench
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GB", $2 / 1048576}' /proc/meminfo),"\
-     "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); device: $(./build/lasmesh devices | sed -n 2p | xargs)"
+     "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); device: $(./build/lasmesh devices | head -1 | xargs)"
 echo
 echo "| points | input MB | grid | read+acc s | extract s | write s | total s | cat s | total/cat | M points/s | peak RSS MB | PLY MB | DRC MB | GLB MB | c2m mean | c2m p95 | cell |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"

@@ -33,7 +33,8 @@ struct Bvh {
 class TriangleSearch {
 public:
     explicit TriangleSearch(const Mesh& mesh); // the mesh must outlive the search
-    double distance(const Vec3& p) const;      // +infinity when the mesh has no triangles
+    // +infinity when the mesh has no triangles. `hint`: see PointSearch::distance.
+    double distance(const Vec3& p, std::uint32_t* hint = nullptr) const;
 
 private:
     const Mesh& mesh_;
@@ -44,7 +45,9 @@ private:
 class PointSearch {
 public:
     explicit PointSearch(std::vector<Point3f> points);
-    double distance(const Vec3& p) const; // +infinity when there are no points
+    // +infinity when there are no points. `hint` (optional, in and out): the index of the
+    // nearest item of a previous query close by, updated to this query's; it only speeds up.
+    double distance(const Vec3& p, std::uint32_t* hint = nullptr) const;
     std::size_t size() const { return points_.size(); }
     Vec3 point(std::size_t i) const { return {points_[i][0], points_[i][1], points_[i][2]}; }
 
