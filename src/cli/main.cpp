@@ -4,6 +4,7 @@
 #include "grid_command.hpp"
 #include "info_command.hpp"
 #include "mesh_command.hpp"
+#include "signals.hpp"
 #include "lasmesh/error.hpp"
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@ constexpr int exit_internal_error = 5;
 } // namespace
 
 int main(int argc, char** argv) {
+    lasmesh::cli::handle_signals(); // before any thread exists
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
     app.require_subcommand(0, 1);
@@ -71,7 +73,7 @@ int main(int argc, char** argv) {
             lasmesh::cli::run_mesh(mesh, std::cerr);
         }
         std::cout.flush();
-        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output");
+        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output (closed pipe or full disk?)");
         return 0;
     } catch (const lasmesh::Error& e) {
         std::cerr << "lasmesh: " << e.what() << '\n';
