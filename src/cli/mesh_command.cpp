@@ -85,7 +85,7 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
             throw Error(ErrorKind::usage, "-o \"" + path + "\": unknown output extension, expected .ply, .drc or .glb");
         check_output_folder(path); // before reading: nobody should wait to learn this
     }
-    const AccumulateOptions accumulate = accumulate_options(o.grid);
+    AccumulateOptions accumulate = accumulate_options(o.grid);
     const double requested_iso = parse_iso(o.iso);
     const MinPiece min_piece = parse_min_piece(o.min_piece);
     const VertexPlacement placement = parse_placement(o.placement);
@@ -93,9 +93,14 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
     const auto start = std::chrono::steady_clock::now();
+    if (o.grid.scan_bounds) accumulate.bounds = scan_bounds(o.input);
     LasReader reader(o.input);
+    // An empty mesh is no use and Draco cannot encode one: say so before any device work.
+    if (reader.header().point_count == 0)
+        throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
     ComputeDevice device(o.grid.device);
     const DensityGrid grid = accumulate_density(reader, device, accumulate);
+    summary << outside_advice(grid.points_outside, grid.points_read);
     const double t_accumulate = seconds_since(start);
 
     const auto extract_start = std::chrono::steady_clock::now();
