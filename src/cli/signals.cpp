@@ -26,7 +26,13 @@ void handle_signals() {
 
     sigset_t termination;
     sigemptyset(&termination);
-    for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&termination, signal);
+    for (int signal : {SIGINT, SIGTERM, SIGHUP}) {
+        // An ignored signal stays ignored: nohup ignores SIGHUP, a shell script's background
+        // jobs SIGINT, and Linux would still queue a blocked one for sigwait().
+        struct sigaction current {};
+        sigaction(signal, nullptr, &current);
+        if (current.sa_handler != SIG_IGN) sigaddset(&termination, signal);
+    }
     pthread_sigmask(SIG_BLOCK, &termination, nullptr);
     std::thread([termination] {
         int signal = 0;
