@@ -14,6 +14,8 @@ packages=(
   libdraco-dev draco
   # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc
   gzip bzip2 xz-utils zstd python3 bc
+  # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
+  clang-14 libclang-rt-14-dev
 )
 # npm (with Node.js) installs the Khronos glTF validator for the tests (tools/test.sh). Checked as
 # a command: a Node.js from elsewhere (NodeSource) brings its own npm, and Debian's would clash.
