@@ -1,5 +1,6 @@
 // The `lasmesh` command: parses options with CLI11, runs one library entry point per
-// subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
+// subcommand, and maps errors to the documented exit codes. Nothing below main() exits, except
+// the signal thread (signals.cpp).
 #include "compare_command.hpp"
 #include "grid_command.hpp"
 #include "info_command.hpp"
