@@ -76,7 +76,7 @@ expect "truncated pipe" 2 'standard input: ends at byte 33972 after 990' "cat tr
 expect "zero scale" 2 'zero-scale.las: X scale factor at byte 131 is zero' "$L zero-scale.las"
 expect "non-finite scale" 2 'nan-scale.las: Y scale factor at byte 139 is not a finite number' "$L nan-scale.las"
 expect "non-finite offset" 2 'inf-offset.las: Y offset at byte 163 is not a finite number' "$L inf-offset.las"
-expect "min > max bounds" 2 'inverted.las: header bounds are inverted: min X' "$L inverted.las"
+expect "min > max bounds" 2 'inverted.las: header bounds are inverted: min X 1000000000.000000 > max 5.001000 (bytes 179-226): the header is damaged' "$L inverted.las"
 expect "VLR runs past the point data" 2 'vlr-length.las: VLR 0 (user id "lasmesh", record 1, 100 bytes at byte 281) runs past' "$L vlr-length.las"
 expect "VLR count too high" 2 'vlr-count.las: VLR 1 of 2 would start at byte 312' "$L vlr-count.las"
 expect "corrupt gzip" 2 'corrupt.las.gz: corrupt or truncated gzip stream near compressed byte' "$L corrupt.las.gz"
