@@ -168,7 +168,8 @@ LasHeader read_las_header(InputStream& in) {
                 throw_input_error(in.name(), std::string("header bounds are inverted: min ") + "XYZ"[i] +
                                                  " " + std::to_string(h.min[i]) + " > max " +
                                                  std::to_string(h.max[i]) +
-                                                 " (bytes 179-226); use --bounds to give the extent");
+                                                 " (bytes 179-226): the header is damaged; rewrite its bounds from the points, e.g. "
+                                                 "with `lasinfo -repair_bb`");
 
     // VLRs sit between the header and the point data; one that runs past the offset to point
     // data means the count or a length is wrong, and its "payload" would be point records.

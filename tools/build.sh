@@ -16,6 +16,8 @@ packages=(
   gzip bzip2 xz-utils zstd python3 bc
   # the install test renders the man page
   groff-base
+  # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
+  clang-14 libclang-rt-14-dev
 )
 # npm (with Node.js) installs the Khronos glTF validator for the tests (tools/test.sh). Checked as
 # a command: a Node.js from elsewhere (NodeSource) brings its own npm, and Debian's would clash.

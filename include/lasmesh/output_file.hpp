@@ -28,6 +28,11 @@ private:
     bool committed_ = false;
 };
 
+// Removes the temporary file of every OutputFile not yet committed and blocks any further
+// create or commit, for good: for a termination signal's cleanup right before the process exits
+// (src/cli/signals.cpp). Never call it from an asynchronous signal handler (it takes a mutex).
+void remove_unfinished_outputs();
+
 // Checks before any work that `path`'s folder exists and is writable; throws Error (output).
 void check_output_folder(const std::string& path);
 

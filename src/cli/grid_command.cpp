@@ -16,7 +16,8 @@ void run_devices(std::ostream& out) {
 }
 
 void run_grid(const GridCommandOptions& options, std::ostream& out) {
-    const AccumulateOptions accumulate = accumulate_options(options.grid);
+    AccumulateOptions accumulate = accumulate_options(options.grid);
+    if (options.grid.scan_bounds) accumulate.bounds = scan_bounds(options.input);
     LasReader reader(options.input);
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();

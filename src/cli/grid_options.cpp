@@ -1,13 +1,23 @@
 // Grid and device options: one declaration, used by `lasmesh grid` and the meshing command.
 #include "grid_options.hpp"
 
+#include "lasmesh/error.hpp"
+#include "lasmesh/las_scan.hpp"
+
+#include <filesystem>
+
 namespace lasmesh::cli {
 
 void add_grid_options(CLI::App& command, GridOptions& o) {
     command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ; cells are cubes")
         ->capture_default_str();
     command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)");
-    command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
+    CLI::Option* bounds =
+        command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
+    command.add_flag("--scan-bounds", o.scan_bounds,
+                     "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
+                     "then to grid them; files only, not standard input")
+        ->excludes(bounds);
     command.add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
         ->capture_default_str();
     command.add_option("--chunk-mb", o.chunk_mb, "Largest slice of records uploaded at once, MiB (default 16, "
@@ -24,6 +34,23 @@ AccumulateOptions accumulate_options(const GridOptions& o) {
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);
     return a;
+}
+
+Bounds scan_bounds(const std::string& input) {
+    // A regular file can be opened again for the second pass; a pipe's bytes are gone.
+    if (input == "-" || !std::filesystem::is_regular_file(input))
+        throw Error(ErrorKind::usage, "--scan-bounds reads the input twice, so it needs a regular file, not \"" +
+                                          input + "\": save the stream to a file, or give --bounds");
+    LasReader reader(input);
+    const ScanResult scan = scan_points(reader);
+    return {scan.min, scan.max};
+}
+
+std::string outside_advice(std::uint64_t points_outside, std::uint64_t points_read) {
+    if (points_outside == 0) return "";
+    return "warning: " + std::to_string(points_outside) + " of " + std::to_string(points_read) +
+           " points lie outside the grid and were left out (header bounds too small?); "
+           "--scan-bounds or --bounds covers them\n";
 }
 
 } // namespace lasmesh::cli

@@ -13,6 +13,7 @@ struct GridOptions {
     std::string grid = "256";
     double voxel = 0;
     std::string bounds;
+    bool scan_bounds = false;
     std::string device = "auto";
     double chunk_mb = 0;
     double max_memory_mb = 0;
@@ -22,5 +23,13 @@ void add_grid_options(CLI::App& command, GridOptions& options);
 
 // Checks and converts the options; throws Error (usage) quoting a bad value.
 AccumulateOptions accumulate_options(const GridOptions& options);
+
+// --scan-bounds: the bounds of the points of `input` found by reading it once (scan_points), for
+// a second, gridding pass. Throws Error (usage) for standard input or a pipe, which cannot be read
+// twice.
+Bounds scan_bounds(const std::string& input);
+
+// A line advising --scan-bounds or --bounds when points fell outside the grid; empty otherwise.
+std::string outside_advice(std::uint64_t points_outside, std::uint64_t points_read);
 
 } // namespace lasmesh::cli

@@ -1,10 +1,12 @@
 // The `lasmesh` command: parses options with CLI11, runs one library entry point per
-// subcommand, and maps errors to the documented exit codes. Nothing below main() exits.
+// subcommand, and maps errors to the documented exit codes. Nothing below main() exits, except
+// the signal thread (signals.cpp).
 #include "compare_command.hpp"
 #include "grid_command.hpp"
 #include "info_command.hpp"
 #include "mesh_command.hpp"
 #include "progress.hpp"
+#include "signals.hpp"
 #include "lasmesh/error.hpp"
 
 #include <CLI/CLI.hpp>
@@ -19,6 +21,7 @@ constexpr int exit_internal_error = 5;
 } // namespace
 
 int main(int argc, char** argv) {
+    lasmesh::cli::handle_signals(); // before any thread exists
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
     app.require_subcommand(0, 1);
@@ -83,7 +86,7 @@ int main(int argc, char** argv) {
             lasmesh::cli::run_mesh(mesh, std::cerr);
         }
         std::cout.flush();
-        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output");
+        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output (closed pipe or full disk?)");
         return 0;
     } catch (const lasmesh::Error& e) {
         std::cerr << "lasmesh: " << e.what() << '\n';

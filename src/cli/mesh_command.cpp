@@ -209,7 +209,11 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
 
     RunReport r;
     const auto start = std::chrono::steady_clock::now();
+    if (o.grid.scan_bounds) accumulate.bounds = scan_bounds(o.input);
     LasReader reader(o.input);
+    // An empty mesh is no use and Draco cannot encode one: say so before any device work.
+    if (reader.header().point_count == 0)
+        throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
     ComputeDevice device(o.grid.device);
     r.input = reader.stream().name();
     r.device = device.info().name;
@@ -224,6 +228,10 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     const DensityGrid grid = accumulate_density(reader, device, accumulate);
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
+    if (!o.quiet && grid.points_outside > 0) {
+        progress.clear();
+        summary << outside_advice(grid.points_outside, grid.points_read);
+    }
     verbose("accumulated    " + std::to_string(grid.points_read) + " points into " +
             megabytes(memory_need(grid.spec, grid.has_color(), 0).largest_buffer) + " of grid in " +
             two_digits(r.read_accumulate) + " s");

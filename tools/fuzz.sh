@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Fuzzes the LAS reader (tools/fuzz/fuzz_las.cpp) with libFuzzer under AddressSanitizer and
+# UndefinedBehaviorSanitizer for SECONDS (default 60); exits non-zero on any crash, leaving the
+# input that caused it in build-fuzz/artifacts/. Needs build/lasgen (tools/build.sh) for the seeds.
+# Longer runs: `bash tools/fuzz.sh 3600`; the corpus in build-fuzz/corpus/ grows across runs.
+# Usage: tools/fuzz.sh [SECONDS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+out=build-fuzz
+mkdir -p "$out/seeds" "$out/corpus" "$out/artifacts"
+
+# Compiled directly (no CMake): the target needs only the reading sources and Boost.Iostreams.
+sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/input_stream.cpp src/las_header.cpp src/las_reader.cpp
+         src/las_scan.cpp)
+if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out/fuzz_las" | head -1)" ]; then
+  clang++-14 -std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
+    -fno-sanitize-recover=undefined -Iinclude -Isrc "${sources[@]}" -lboost_iostreams -o "$out/fuzz_las"
+fi
+
+# Seeds: small valid files of every version and point format, some with extra bytes, and the
+# same compressed with each supported compressor (so the decoders are reached too).
+lasgen=build/lasgen
+for version in 1.0 1.1 1.2 1.3 1.4; do
+  formats="0 1"
+  [ "$version" = 1.2 ] && formats="0 1 2 3"
+  [ "$version" = 1.3 ] && formats="0 1 2 3 4 5"
+  [ "$version" = 1.4 ] && formats="0 1 2 3 4 5 6 7 8 9 10"
+  for format in $formats; do
+    "$lasgen" --scene sphere --points 12 --las-version "$version" --format "$format" \
+      -o "$out/seeds/v$version-f$format.las"
+  done
+done
+"$lasgen" --scene box --points 20 --format 2 --extra-bytes 5 -o "$out/seeds/extra.las"
+gzip -c "$out/seeds/v1.2-f3.las" > "$out/seeds/v1.2-f3.las.gz"
+bzip2 -c "$out/seeds/v1.4-f7.las" > "$out/seeds/v1.4-f7.las.bz2"
+xz -c "$out/seeds/v1.3-f1.las" > "$out/seeds/v1.3-f1.las.xz"
+zstd -q -c "$out/seeds/v1.0-f0.las" > "$out/seeds/v1.0-f0.las.zst"
+
+# -timeout: one input taking 10 s is a hang; -rss_limit_mb: no input may need much memory.
+"$out/fuzz_las" "$out/corpus" "$out/seeds" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  -artifact_prefix="$out/artifacts/" -print_final_stats=1 -close_fd_mask=3 2>&1 |
+  grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done|==|SUMMARY|INFO: seed corpus)|ERROR|runtime error" || true
+exit "${PIPESTATUS[0]}"
