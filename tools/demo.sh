@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job on a built-in default: install, build, generate a sample deck scan (2 million
-# points, the kind of scene lasmesh is for), report on it, and mesh it to out/sample-deck.ply.
+# points, the kind of scene lasmesh is for), report on it, mesh it to PLY, Draco and glTF in one
+# run, and measure how close the mesh is to the points.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/build.sh
@@ -9,5 +10,9 @@ sample=out/sample-deck.las
 [ -f "$sample" ] || build/lasgen --scene deck --points 2000000 --seed 1 -o "$sample"
 build/lasmesh info --scan "$sample"
 echo
-build/lasmesh "$sample" -o out/sample-deck.ply
-echo "mesh written to out/sample-deck.ply (open it in MeshLab, CloudCompare or Blender)"
+build/lasmesh "$sample" -o out/sample-deck.ply -o out/sample-deck.drc -o out/sample-deck.glb
+echo
+build/lasmesh compare out/sample-deck.ply "$sample" --samples 500000 --heatmap out/sample-deck-distance.ply
+echo
+echo "meshes in out/: sample-deck.ply (MeshLab, CloudCompare, Blender), sample-deck.glb (three.js, Blender),"
+echo "sample-deck.drc (Draco), sample-deck-distance.ply (the mesh coloured by its distance to the points)"

@@ -16,8 +16,10 @@ check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/ma
 check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
 check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
 
+# The consumer is compiled like the library (the sanitizer build's flags, when testing that one).
+flags=$(sed -n 's/^CMAKE_CXX_FLAGS:[A-Z]*=//p' "$build/CMakeCache.txt")
 cmake -S "$source/tests/consumer" -B "$dir/consumer" -DCMAKE_PREFIX_PATH="$dir/prefix" -DCMAKE_BUILD_TYPE=Release \
-  > "$dir/configure.log" 2>&1
+  -DCMAKE_CXX_FLAGS="$flags" > "$dir/configure.log" 2>&1
 check "find_package(lasmesh) configures" test $? -eq 0 || cat "$dir/configure.log"
 cmake --build "$dir/consumer" > "$dir/build.log" 2>&1
 check "the consumer builds and links" test $? -eq 0 || tail -20 "$dir/build.log"
