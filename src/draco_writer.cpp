@@ -105,16 +105,7 @@ std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoCol
 }
 
 void write_draco(const Mesh& mesh, const std::string& path, const DracoOptions& options) {
-    if (mesh.triangles.empty()) throw Error(ErrorKind::output, path + ": the mesh has no triangles, Draco cannot encode it");
-    std::string bytes;
-    try {
-        bytes = encode_draco(mesh, options);
-    } catch (const Error& e) {
-        throw Error(e.kind(), path + ": " + e.what());
-    }
-    OutputFile out(path);
-    out.write(bytes);
-    out.commit();
+    write_encoded(path, "Draco", mesh.triangles.empty(), [&] { return encode_draco(mesh, options); });
 }
 
 } // namespace lasmesh

@@ -102,16 +102,7 @@ std::string encode_glb(const Mesh& mesh, const DracoOptions& options) {
 }
 
 void write_glb(const Mesh& mesh, const std::string& path, const DracoOptions& options) {
-    if (mesh.triangles.empty()) throw Error(ErrorKind::output, path + ": the mesh has no triangles, glTF cannot hold it");
-    std::string bytes;
-    try {
-        bytes = encode_glb(mesh, options);
-    } catch (const Error& e) {
-        throw Error(e.kind(), path + ": " + e.what());
-    }
-    OutputFile out(path);
-    out.write(bytes);
-    out.commit();
+    write_encoded(path, "glTF", mesh.triangles.empty(), [&] { return encode_glb(mesh, options); });
 }
 
 } // namespace lasmesh

@@ -96,4 +96,17 @@ void remove_unfinished_outputs() {
     for (const std::string& temporary : unfinished().paths) ::unlink(temporary.c_str());
 }
 
+void write_encoded(const std::string& path, const std::string& format, bool empty, const std::function<std::string()>& encode) {
+    if (empty) throw Error(ErrorKind::output, path + ": the mesh has no triangles, " + format + " cannot hold it");
+    std::string bytes;
+    try {
+        bytes = encode();
+    } catch (const Error& e) {
+        throw Error(e.kind(), path + ": " + e.what());
+    }
+    OutputFile out(path);
+    out.write(bytes);
+    out.commit();
+}
+
 } // namespace lasmesh

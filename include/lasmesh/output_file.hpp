@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 namespace lasmesh {
@@ -32,6 +33,10 @@ private:
 // create or commit, for good: for a termination signal's cleanup right before the process exits
 // (src/cli/signals.cpp). Never call it from an asynchronous signal handler (it takes a mutex).
 void remove_unfinished_outputs();
+
+// Writes `bytes` encoded in memory (Draco, glTF) as the whole of `path`, through an OutputFile.
+// `encode` runs first; its errors are prefixed with the path. An empty mesh is refused.
+void write_encoded(const std::string& path, const std::string& format, bool empty, const std::function<std::string()>& encode);
 
 // Checks before any work that `path`'s folder exists and is writable; throws Error (output).
 void check_output_folder(const std::string& path);
