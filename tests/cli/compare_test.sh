@@ -5,10 +5,7 @@
 # Usage: compare_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2 here=$(dirname "$0")
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
-contains() { grep -q -- "$2" "$1"; }
+source "$(dirname "$0")/common.sh"
 field() { python3 -c "import json, sys; r = json.load(open(sys.argv[1])); print(eval('r' + sys.argv[2]))" "$@"; }
 
 "$lasgen" --scene deck --points 1000000 -o "$dir/deck.las"
@@ -61,5 +58,4 @@ check "truncated mesh: says where" contains "$dir/err.txt" "cut.ply: byte"
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/no/dir/h.ply" 2> /dev/null; rc=$?
 check "heat map into a missing folder exits 4" test "$rc" -eq 4
 
-echo "cli compare: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli compare"

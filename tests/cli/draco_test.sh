@@ -5,14 +5,7 @@
 # Usage: draco_test.sh LASMESH LASGEN VALIDATOR_FOLDER
 set -u
 lasmesh=$1 lasgen=$2 validator=$3 here=$(dirname "$0")
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
-contains() { grep -q -- "$2" "$1"; }
-bounds() { "$lasmesh" info --json --scan "$1" | python3 -c '
-import json, sys
-s = json.load(sys.stdin)["scanned"]["bounds"]
-print(",".join(map(str, s["min"])), ",".join(map(str, s["max"])))'; }
+source "$(dirname "$0")/common.sh"
 ply_count() { sed -n "s/^element $2 //p" "$1" | head -n 1; } # the count of a PLY element
 # A copy of a PLY with a `comment origin` line, which ply_check.py needs, after the format line.
 with_origin() { python3 -c '
@@ -104,5 +97,4 @@ done
 check "nothing written after a refusal" test ! -e "$dir/y.drc"
 check "no temporary file left behind" test -z "$(ls "$dir" | grep '\.tmp$')"
 
-echo "cli draco: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli draco"

@@ -5,9 +5,7 @@
 # Usage: errors_test.sh LASMESH LASGEN
 set -u
 lasmesh=$(realpath "$1") lasgen=$(realpath "$2")
-dir=$(mktemp -d) && trap 'chmod -R u+w "$dir"; rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+source "$(dirname "$0")/common.sh"
 
 # expect NAME CODE PHRASE COMMAND...: runs COMMAND (a shell string, so pipes work) with -o out.ply
 # appended, and checks the exit code, the phrase in stderr, and that out.ply does not exist.
@@ -132,5 +130,4 @@ print(subprocess.run(sys.argv[1:], stdout=w, stderr=open("err.txt", "w")).return
 check "closed stdout pipe exits 4 (got $rc)" test "$rc" -eq 4
 check "closed stdout pipe is named" grep -qF "cannot write to standard output" err.txt
 
-echo "cli errors: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli errors"

@@ -2,10 +2,7 @@
 # `lasmesh grid` and `lasmesh devices` as users run them. Usage: grid_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
-contains() { grep -q -- "$2" "$1"; }
+source "$(dirname "$0")/common.sh"
 
 "$lasmesh" devices > "$dir/devices.txt"
 check "devices lists at least one device with its largest allocation" contains "$dir/devices.txt" "largest allocation"
@@ -43,5 +40,4 @@ OCL_ICD_VENDORS=/nonexistent "$lasmesh" grid "$dir/s.las" 2> "$dir/err.txt"; rc=
 check "no OpenCL platform exits 3" test "$rc" -eq 3
 check "no platform names the package" contains "$dir/err.txt" "pocl-opencl-icd"
 
-echo "cli grid: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli grid"

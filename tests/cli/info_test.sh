@@ -3,13 +3,8 @@
 # with a message naming the input. Usage: info_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { # check NAME COMMAND...: passes when the command succeeds
-    if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi
-}
+source "$(dirname "$0")/common.sh"
 same() { cmp -s "$1" "$2"; }
-contains() { grep -q -- "$2" "$1"; }
 
 "$lasgen" --scene torus --points 30000 --las-version 1.4 --format 7 -o "$dir/t.las"
 "$lasmesh" info --json --scan "$dir/t.las" > "$dir/file.json"
@@ -63,5 +58,4 @@ check "help lists info" contains "$dir/help.txt" "info"
 "$lasmesh" --version > "$dir/version.txt"
 check "version" contains "$dir/version.txt" "lasmesh "
 
-echo "cli info: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli info"

@@ -4,9 +4,7 @@
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR LASGEN
 set -u
 build=$1 source=$2 lasgen=$3
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+source "$(dirname "$0")/common.sh"
 
 cmake --install "$build" --prefix "$dir/prefix" > "$dir/install.log"
 check "the command is installed and runs" "$dir/prefix/bin/lasmesh" --version
@@ -28,5 +26,4 @@ check "the consumer builds and links" test $? -eq 0 || tail -20 "$dir/build.log"
 check "the consumer reads and meshes" grep -q "^20000 points, [1-9][0-9]* triangles" "$dir/out.txt"
 check "the consumer's PLY is written" test -s "$dir/s.ply"
 
-echo "install: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "install"

@@ -4,14 +4,7 @@
 # Usage: mesh_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2 here=$(dirname "$0")
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
-contains() { grep -q -- "$2" "$1"; }
-bounds() { "$lasmesh" info --json --scan "$1" | python3 -c '
-import json, sys
-s = json.load(sys.stdin)["scanned"]["bounds"]
-print(",".join(map(str, s["min"])), ",".join(map(str, s["max"])))'; }
+source "$(dirname "$0")/common.sh"
 
 # A single-colour sphere far from the origin (UTM-like): colours exact, box within a cell.
 "$lasgen" --scene sphere --size 10 --points 200000 --origin 500000,6700000,50 --color 12,200,99 -o "$dir/s.las"
@@ -68,5 +61,4 @@ check "no temporary file left behind" test -z "$(ls "$dir" | grep '\.tmp$')"
 "$lasmesh" "$dir/s.las" -o /dev/full/x.ply 2> /dev/null; rc=$?
 check "unwritable output exits 4" test "$rc" -eq 4
 
-echo "cli mesh: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli mesh"

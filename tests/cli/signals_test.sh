@@ -4,9 +4,7 @@
 # Usage: signals_test.sh LASMESH LASGEN [ITERATIONS]
 set -u
 lasmesh=$(realpath "$1") lasgen=$(realpath "$2") iterations=${3:-20}
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+source "$(dirname "$0")/common.sh"
 cd "$dir"
 
 # A binary PLY is complete when its size is exactly the header plus every element it declares.
@@ -99,5 +97,4 @@ check "SIGTERM while writing exits 143 (got $rc)" test "$rc" -eq 143
 check "SIGTERM while writing leaves no output" test ! -e out.ply
 check "SIGTERM while writing removes the temporary file" test -z "$(compgen -G 'out.ply.*.tmp')"
 
-echo "cli signals: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli signals"

@@ -5,11 +5,7 @@
 # Usage: terminal_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2
-dir=$(mktemp -d) && trap 'rm -rf "$dir"' EXIT
-passed=0 failed=0
-check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
-contains() { grep -q -- "$2" "$1"; }
-has() { grep -qF -- "$2" "$1"; } # fixed text: the escape sequence has a bracket
+source "$(dirname "$0")/common.sh"
 erase=$'\r\e[K'
 
 "$lasgen" --scene deck --points 300000 -o "$dir/d.las"
@@ -57,5 +53,4 @@ PY
 "$lasmesh" "$dir/d.las" -o "$dir/v.ply" --report "$dir/none/r.json" 2> "$dir/err.txt"; rc=$?
 check "--report into a missing folder exits 4 before reading" test "$rc" -eq 4
 
-echo "cli terminal: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish "cli terminal"

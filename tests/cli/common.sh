@@ -1,0 +1,21 @@
+# Shared by the command-line test scripts (sourced after they set lasmesh=...): a temporary
+# folder removed at exit, named checks counted as they run, and a verdict at the end.
+dir=$(mktemp -d) && trap 'chmod -R u+w "$dir"; rm -rf "$dir"' EXIT # chmod: tests make read-only folders
+passed=0 failed=0
+
+# check NAME COMMAND...: passes when the command succeeds.
+check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
+contains() { grep -q -- "$2" "$1"; } # FILE REGEX
+has() { grep -qF -- "$2" "$1"; }      # FILE TEXT (escape sequences, brackets)
+
+# The scanned bounds of a LAS file as "minx,miny,minz maxx,maxy,maxz".
+bounds() { "$lasmesh" info --json --scan "$1" | python3 -c '
+import json, sys
+s = json.load(sys.stdin)["scanned"]["bounds"]
+print(",".join(map(str, s["min"])), ",".join(map(str, s["max"])))'; }
+
+# finish NAME: prints the tally; the script's exit status is whether every check passed.
+finish() {
+  echo "$1: $passed passed, $failed failed"
+  [ "$failed" -eq 0 ]
+}
