@@ -1,9 +1,9 @@
 // Accumulation on the OpenCL device (PoCL in CI) against hand-worked cases and a plain reference
 // written here, for every slicing, colour depth and grid edge case.
-#include "lasmesh/density_grid.hpp"
+#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/las_point.hpp"
-#include "opencl_device.hpp" // internal: build_program
+#include "lasmesh/read/las_point.hpp"
+#include "grid/opencl_device.hpp" // internal: build_program
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>

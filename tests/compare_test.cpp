@@ -1,11 +1,11 @@
 // Distances for `lasmesh compare`: exact point-triangle distances on hand-computed cases, the
 // searches against brute force, the statistics, surface sampling, and the PLY reader.
-#include "lasmesh/compare.hpp"
+#include "lasmesh/measure/compare.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/marching_cubes.hpp"
-#include "lasmesh/mesh_distance.hpp"
-#include "lasmesh/ply_reader.hpp"
-#include "lasmesh/ply_writer.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/measure/mesh_distance.hpp"
+#include "lasmesh/io/ply_reader.hpp"
+#include "lasmesh/io/ply_writer.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>

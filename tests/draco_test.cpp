@@ -1,11 +1,11 @@
 // Draco (.drc) and glTF (.glb) output: round trips through the Draco library within the
 // quantization step, exact colours, the local frame kept, deterministic bytes, refusals.
-#include "lasmesh/draco_reader.hpp"
-#include "lasmesh/draco_writer.hpp"
+#include "lasmesh/io/draco_reader.hpp"
+#include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/gltf_writer.hpp"
-#include "lasmesh/marching_cubes.hpp"
-#include "lasmesh/srgb.hpp"
+#include "lasmesh/io/gltf_writer.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/io/srgb.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>

@@ -2,9 +2,9 @@
 // and the errors for truncated, LAZ, foreign and empty input.
 #include "lasmesh/byte_order.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/las_point.hpp"
-#include "lasmesh/las_reader.hpp"
-#include "lasmesh/las_scan.hpp"
+#include "lasmesh/read/las_point.hpp"
+#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/read/las_scan.hpp"
 #include "test_support.hpp"
 
 #include <boost/iostreams/copy.hpp>

@@ -1,7 +1,7 @@
 // Marching cubes on synthetic fields: closed, consistently oriented, outward-facing meshes with
 // the right topology, identical for any thread count.
-#include "lasmesh/marching_cubes.hpp"
-#include "lasmesh/marching_cubes_table.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/marching_cubes_table.hpp"
 #include "lasmesh/error.hpp"
 
 #include <doctest/doctest.h>

@@ -1,7 +1,7 @@
 // Removing small isolated pieces: a big sphere stays whole, a small far one goes, and what
 // stays is the same mesh as before, in the same order.
-#include "lasmesh/marching_cubes.hpp"
-#include "lasmesh/mesh_pieces.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/mesh_pieces.hpp"
 #include "lasmesh/error.hpp"
 
 #include <doctest/doctest.h>

@@ -8,8 +8,8 @@ cd "$(dirname "$0")/.."
 packages=(
   # toolchain
   cmake g++ make pkg-config
-  # libraries: LAS streams, parallelism, command line, tests, OpenCL, Draco
-  libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev
+  # libraries: LAS streams, parallelism, command line, tests, JSON (command line only), OpenCL, Draco
+  libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libdraco-dev draco
   # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc

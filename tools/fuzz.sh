@@ -11,8 +11,8 @@ out=build-fuzz
 mkdir -p "$out/seeds" "$out/corpus" "$out/artifacts"
 
 # Compiled directly (no CMake): the target needs only the reading sources and Boost.Iostreams.
-sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/input_stream.cpp src/las_header.cpp src/las_reader.cpp
-         src/las_scan.cpp)
+sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/read/input_stream.cpp src/read/las_header.cpp src/read/las_reader.cpp
+         src/read/las_scan.cpp)
 if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out/fuzz_las" | head -1)" ]; then
   clang++-14 -std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
     -fno-sanitize-recover=undefined -Iinclude -Isrc "${sources[@]}" -lboost_iostreams -o "$out/fuzz_las"

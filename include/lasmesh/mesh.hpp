@@ -1,7 +1,7 @@
 // An indexed triangle mesh with optional per-vertex colour, positions in a local frame.
 #pragma once
 
-#include "lasmesh/las_header.hpp"
+#include "lasmesh/read/las_header.hpp"
 
 #include <array>
 #include <cstdint>

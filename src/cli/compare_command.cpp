@@ -2,12 +2,12 @@
 #include "compare_command.hpp"
 
 #include "json_writer.hpp"
-#include "lasmesh/compare.hpp"
-#include "lasmesh/draco_reader.hpp"
+#include "lasmesh/measure/compare.hpp"
+#include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/output_file.hpp"
-#include "lasmesh/ply_reader.hpp"
-#include "lasmesh/ply_writer.hpp"
+#include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/ply_reader.hpp"
+#include "lasmesh/io/ply_writer.hpp"
 
 #include <filesystem>
 #include <iomanip>

@@ -2,7 +2,7 @@
 #include "grid_options.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/las_scan.hpp"
+#include "lasmesh/read/las_scan.hpp"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 // The grid and device options shared by every command that accumulates a grid, declared once.
 #pragma once
 
-#include "lasmesh/density_grid.hpp"
+#include "lasmesh/grid/density_grid.hpp"
 
 #include <CLI/CLI.hpp>
 

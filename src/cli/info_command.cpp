@@ -2,8 +2,8 @@
 #include "info_command.hpp"
 
 #include "json_writer.hpp"
-#include "lasmesh/las_reader.hpp"
-#include "lasmesh/las_scan.hpp"
+#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/read/las_scan.hpp"
 
 #include <optional>
 

@@ -1,13 +1,13 @@
 // The pipeline behind `lasmesh INPUT -o OUT.ply`, timed per stage and per output.
 #include "mesh_command.hpp"
 
-#include "lasmesh/draco_writer.hpp"
+#include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/gltf_writer.hpp"
-#include "lasmesh/marching_cubes.hpp"
-#include "lasmesh/mesh_pieces.hpp"
-#include "lasmesh/output_file.hpp"
-#include "lasmesh/ply_writer.hpp"
+#include "lasmesh/io/gltf_writer.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/mesh_pieces.hpp"
+#include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/ply_writer.hpp"
 #include "json_writer.hpp"
 #include "progress.hpp"
 

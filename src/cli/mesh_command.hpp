@@ -3,7 +3,7 @@
 #pragma once
 
 #include "grid_options.hpp"
-#include "lasmesh/draco_writer.hpp"
+#include "lasmesh/io/draco_writer.hpp"
 
 #include <ostream>
 #include <string>

@@ -10,7 +10,7 @@ cmake --install "$build" --prefix "$dir/prefix" > "$dir/install.log"
 check "the command is installed and runs" "$dir/prefix/bin/lasmesh" --version
 check "the man page is installed" test -s "$dir/prefix/share/man/man1/lasmesh.1"
 check "the man page renders" bash -c "groff -man -Tutf8 -P-cbou -ww '$dir/prefix/share/man/man1/lasmesh.1' 2>&1 | grep -q '^EXIT STATUS'"
-check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/marching_cubes.hpp"
+check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/mesh/marching_cubes.hpp"
 check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
 check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
 

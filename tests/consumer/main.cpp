@@ -1,9 +1,9 @@
 // Reads a LAS file through the installed library and meshes a grid built on the host: the
 // headers, the reader (Boost.Iostreams inside), the extractor (TBB) and the PLY writer link.
-#include <lasmesh/las_point.hpp>
-#include <lasmesh/las_reader.hpp>
-#include <lasmesh/marching_cubes.hpp>
-#include <lasmesh/ply_writer.hpp>
+#include <lasmesh/read/las_point.hpp>
+#include <lasmesh/read/las_reader.hpp>
+#include <lasmesh/mesh/marching_cubes.hpp>
+#include <lasmesh/io/ply_writer.hpp>
 
 #include <cmath>
 #include <iostream>

@@ -2,7 +2,7 @@
 // only on (seed, index), so any block size or thread count gives the same file.
 #pragma once
 
-#include "lasmesh/las_header.hpp"
+#include "lasmesh/read/las_header.hpp"
 
 #include <array>
 #include <cstdint>

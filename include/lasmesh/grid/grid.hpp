@@ -1,0 +1,62 @@
+// The grid the points are counted into: cubic cells over the cloud's bounds, and the exact rule
+// that assigns a point to a cell, decided once in raw LAS integers so every device agrees.
+#pragma once
+
+#include "lasmesh/read/las_header.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lasmesh {
+
+struct Bounds {
+    Vec3 min{};
+    Vec3 max{};
+};
+
+// What the user asked for: N cells along the longest axis, NX x NY x NZ cells, or a cell edge.
+struct GridRequest {
+    enum class Kind { longest_axis, explicit_dims, voxel_size } kind = Kind::longest_axis;
+    std::array<std::uint32_t, 3> dims{256, 0, 0}; // longest_axis uses dims[0]
+    double voxel = 0;                              // voxel_size: cell edge in file units
+};
+
+// Parses "--grid" text: "256" or "256x512x256". Throws Error (usage) quoting the text.
+GridRequest parse_grid_request(const std::string& text);
+GridRequest voxel_request(double cell_size); // throws Error (usage) unless positive and finite
+// Parses "minx,miny,minz,maxx,maxy,maxz"; throws Error (usage) quoting the text.
+Bounds parse_bounds(const std::string& text);
+
+// Cubic cells of edge `cell_size`; cell (i, j, k) spans origin + [i, i+1) * cell_size on x (and
+// likewise y, z), except that the last cell on each axis is closed: a point exactly on the upper
+// face belongs to it. Cells are stored x fastest: index = (k * ny + j) * nx + i.
+struct GridSpec {
+    Vec3 origin{};
+    double cell_size = 1;
+    std::array<std::uint32_t, 3> dims{1, 1, 1};
+
+    std::uint64_t cell_count() const { return std::uint64_t{dims[0]} * dims[1] * dims[2]; }
+};
+
+// Covers `bounds` with cubic cells as requested. A flat or single-point cloud still gets a valid
+// grid: a zero extent gets one cell (of the longest extent's size, or 1 unit if all are zero).
+GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request);
+
+// The cells of one axis in raw LAS integers: a raw value r lies in cell i when
+// starts[i] <= r < starts[i + 1], and outside the grid when r < starts[0] or r >= starts[n].
+// Worked out with the same double arithmetic as PointDecoder::to_world, so the host's idea of
+// where a decoded point lies and the device's integer comparison never disagree.
+struct AxisCells {
+    std::vector<std::int64_t> starts; // n + 1 entries
+
+    std::uint32_t count() const { return static_cast<std::uint32_t>(starts.size() - 1); }
+    // The cell of raw value r, or -1 outside the grid (binary search: the reference rule).
+    std::int64_t cell_of(std::int64_t raw) const;
+};
+
+AxisCells axis_cells(const GridSpec& grid, int axis, double scale, double offset);
+
+} // namespace lasmesh

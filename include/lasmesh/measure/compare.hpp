@@ -1,0 +1,46 @@
+// Fidelity of a mesh to the cloud it came from, measured both ways as in the study's section 5:
+// cloud to mesh (is every point near the surface?) and mesh to cloud (is the surface near the
+// points, or does it invent shapes?).
+#pragma once
+
+#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/mesh.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace lasmesh {
+
+struct DistanceStats {
+    std::uint64_t count = 0;
+    double mean = 0, std = 0, median = 0, p95 = 0, p99 = 0, max = 0;
+    double within_1_cell = -1, within_2_cells = -1; // shares in [0, 1]; -1 when no cell size is known
+};
+
+// Summary statistics of `distances` (reordered in place); percentiles are nearest-rank.
+DistanceStats summarize(std::vector<double>& distances, double cell_size);
+
+struct CompareOptions {
+    std::uint64_t samples = 5'000'000;      // cloud points used at most, spread evenly over the file
+    std::uint64_t mesh_samples = 1'000'000; // points sampled on the mesh surface
+    double cell_size = 0;                   // 0: the mesh's own (from its file), if known
+};
+
+struct CompareResult {
+    DistanceStats cloud_to_mesh, mesh_to_cloud;
+    std::uint64_t points_read = 0, points_used = 0, samples_used = 0;
+    double cell_size = 0;
+    std::vector<double> vertex_distance; // per mesh vertex: distance to the nearest used point
+};
+
+// Streams the cloud once, keeping the selected points (relative to the mesh origin) in memory:
+// memory is bounded by the mesh and `samples`, not by the file. With more points than
+// `samples`, mesh-to-cloud distances are measured to that subset, so they are upper bounds.
+CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& options);
+
+// A colour ramp for heat maps: blue at 0, through cyan, green and yellow, to red at `scale`
+// and beyond.
+std::array<std::uint8_t, 3> heat_color(double distance, double scale);
+
+} // namespace lasmesh

@@ -1,0 +1,25 @@
+// One pass over every record: the facts `lasmesh info --scan` reports, computed from the records
+// themselves rather than taken from the header.
+#pragma once
+
+#include "lasmesh/read/las_point.hpp"
+#include "lasmesh/read/las_reader.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace lasmesh {
+
+struct ScanResult {
+    std::uint64_t point_count = 0;
+    Vec3 min{}; // bounds of the decoded positions; all zero when there are no points
+    Vec3 max{};
+    bool has_color = false;
+    Rgb16 color_min{}; // the stored 16-bit words; all zero without colour or points
+    Rgb16 color_max{};
+};
+
+// Reads every remaining record of `reader` in chunks of at most `chunk_records` records.
+ScanResult scan_points(LasReader& reader, std::size_t chunk_records = 1 << 16);
+
+} // namespace lasmesh

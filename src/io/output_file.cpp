@@ -1,0 +1,112 @@
+// OutputFile: temporary file, buffered writes with every error checked, rename at the end.
+#include "lasmesh/io/output_file.hpp"
+
+#include "lasmesh/error.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <unistd.h>
+#include <vector>
+
+namespace lasmesh {
+
+namespace {
+// The temporary files of the OutputFiles alive now, so that a termination signal can remove
+// them (remove_unfinished_outputs). Process-wide because a signal is: the library's one global.
+// Allocated once and never destroyed, so a signal during static destruction finds it intact.
+struct Unfinished {
+    std::mutex mutex;
+    std::vector<std::string> paths;
+};
+Unfinished& unfinished() {
+    static Unfinished* registry = new Unfinished;
+    return *registry;
+}
+
+void forget(const std::string& temporary) { // caller holds the mutex
+    auto& paths = unfinished().paths;
+    for (auto it = paths.begin(); it != paths.end(); ++it)
+        if (*it == temporary) {
+            paths.erase(it);
+            return;
+        }
+}
+
+std::string folder_of(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    return parent.empty() ? "." : parent.string();
+}
+} // namespace
+
+void check_output_folder(const std::string& path) {
+    const std::string folder = folder_of(path);
+    if (!std::filesystem::is_directory(folder))
+        throw Error(ErrorKind::output, path + ": the folder " + folder + " does not exist");
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw Error(ErrorKind::output, path + ": cannot write in " + folder + ": " + std::strerror(errno));
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+    temporary_ = path_ + "." + std::to_string(::getpid()) + ".tmp";
+    // Created and registered under the lock: no moment where the file exists unregistered.
+    std::lock_guard lock(unfinished().mutex);
+    file_ = std::fopen(temporary_.c_str(), "wb");
+    if (file_) unfinished().paths.push_back(temporary_);
+    if (!file_) throw Error(ErrorKind::output, path_ + ": cannot create " + temporary_ + ": " + std::strerror(errno));
+    static thread_local char buffer[1 << 20];
+    std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+}
+
+OutputFile::~OutputFile() {
+    if (file_) std::fclose(file_);
+    if (committed_) return;
+    std::lock_guard lock(unfinished().mutex);
+    std::remove(temporary_.c_str());
+    forget(temporary_);
+}
+
+void OutputFile::fail(const std::string& doing) {
+    std::string reason = std::strerror(errno);
+    if (errno == ENOSPC || errno == EDQUOT || errno == EFBIG) reason += ": free some space or write elsewhere";
+    throw Error(ErrorKind::output, path_ + ": " + doing + " failed: " + reason);
+}
+
+void OutputFile::write(const void* data, std::size_t size) {
+    if (size && std::fwrite(data, 1, size, file_) != size) fail("writing");
+}
+
+void OutputFile::commit() {
+    if (std::fflush(file_) != 0) fail("writing");
+    const int closed = std::fclose(file_);
+    file_ = nullptr;
+    if (closed != 0) fail("closing");
+    // Under the lock, so once remove_unfinished_outputs() has started no output appears.
+    std::lock_guard lock(unfinished().mutex);
+    if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail("renaming " + temporary_ + " to it");
+    forget(temporary_);
+    committed_ = true;
+}
+
+void remove_unfinished_outputs() {
+    // Keeps the lock for good: the caller exits next, and no output may be created or committed
+    // in between by another thread.
+    unfinished().mutex.lock();
+    for (const std::string& temporary : unfinished().paths) ::unlink(temporary.c_str());
+}
+
+void write_encoded(const std::string& path, const std::string& format, bool empty, const std::function<std::string()>& encode) {
+    if (empty) throw Error(ErrorKind::output, path + ": the mesh has no triangles, " + format + " cannot hold it");
+    std::string bytes;
+    try {
+        bytes = encode();
+    } catch (const Error& e) {
+        throw Error(e.kind(), path + ": " + e.what());
+    }
+    OutputFile out(path);
+    out.write(bytes);
+    out.commit();
+}
+
+} // namespace lasmesh

@@ -1,0 +1,144 @@
+// compare: stream the cloud, keep an even subset, then measure both ways in parallel. Each
+// distance lands in its own slot, so the statistics do not depend on the thread count.
+#include "lasmesh/measure/compare.hpp"
+
+#include "lasmesh/read/las_point.hpp"
+#include "lasmesh/measure/mesh_distance.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lasmesh {
+
+namespace {
+
+// Loads point i of n when it is the first of its stride: keeps `wanted` of n, evenly spread.
+bool selected(std::uint64_t i, std::uint64_t n, std::uint64_t wanted) {
+    if (wanted >= n) return true;
+    return (static_cast<unsigned __int128>(i + 1) * wanted) / n != (static_cast<unsigned __int128>(i) * wanted) / n;
+}
+
+std::vector<Point3f> load_points(LasReader& cloud, const Vec3& origin, std::uint64_t wanted, std::uint64_t& read) {
+    const PointDecoder decoder(cloud.header());
+    const std::uint64_t n = cloud.header().point_count;
+    std::vector<Point3f> points;
+    points.reserve(std::min(n, wanted));
+    std::vector<std::byte> chunk(65536 * decoder.record_length);
+    while (std::size_t count = cloud.read_records(chunk)) {
+        for (std::size_t r = 0; r < count; ++r, ++read) {
+            if (!selected(read, n, wanted)) continue;
+            const Vec3 w = decoder.position(chunk.data() + r * decoder.record_length);
+            points.push_back({static_cast<float>(w[0] - origin[0]), static_cast<float>(w[1] - origin[1]),
+                              static_cast<float>(w[2] - origin[2])});
+        }
+    }
+    return points;
+}
+
+// The points' indices in Morton (Z-curve) order of their positions: queries in this order follow
+// each other in space, so each starts from a tight bound (the previous answer) and warm caches.
+// Only the speed depends on it: every distance lands in its own point's slot.
+std::vector<std::uint32_t> spatial_order(const PointSearch& points) {
+    const std::size_t n = points.size();
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (std::size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], points.point(i)[a]), hi[a] = std::max(hi[a], points.point(i)[a]);
+    auto spread = [](std::uint64_t x) { // 21 bits to every third bit of 63
+        x &= 0x1FFFFF;
+        x = (x | x << 32) & 0x1F00000000FFFFull;
+        x = (x | x << 16) & 0x1F0000FF0000FFull;
+        x = (x | x << 8) & 0x100F00F00F00F00Full;
+        x = (x | x << 4) & 0x10C30C30C30C30C3ull;
+        x = (x | x << 2) & 0x1249249249249249ull;
+        return x;
+    };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        std::uint64_t key = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double extent = hi[a] - lo[a];
+            const double unit = extent > 0 ? (points.point(i)[a] - lo[a]) / extent : 0;
+            key |= spread(static_cast<std::uint64_t>(unit * 0x1FFFFF)) << a;
+        }
+        keyed[i] = {key, static_cast<std::uint32_t>(i)};
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end()); // pairs are distinct: the order is unique
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = keyed[k].second;
+    return order;
+}
+
+} // namespace
+
+DistanceStats summarize(std::vector<double>& d, double cell_size) {
+    DistanceStats s;
+    s.count = d.size();
+    if (d.empty()) return s;
+    std::sort(d.begin(), d.end());
+    long double sum = 0, sum_sq = 0;
+    for (double v : d) sum += v, sum_sq += static_cast<long double>(v) * v;
+    const double n = static_cast<double>(d.size());
+    s.mean = static_cast<double>(sum / n);
+    s.std = std::sqrt(std::max(0.0, static_cast<double>(sum_sq / n) - s.mean * s.mean));
+    auto rank = [&](double q) { return d[std::min(d.size() - 1, static_cast<std::size_t>(std::ceil(q * n)) - (q > 0))]; };
+    s.median = rank(0.5), s.p95 = rank(0.95), s.p99 = rank(0.99), s.max = d.back();
+    if (cell_size > 0) {
+        auto share = [&](double limit) { return (std::upper_bound(d.begin(), d.end(), limit) - d.begin()) / n; };
+        s.within_1_cell = share(cell_size), s.within_2_cells = share(2 * cell_size);
+    }
+    return s;
+}
+
+CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& options) {
+    CompareResult result;
+    result.cell_size = options.cell_size > 0 ? options.cell_size : mesh.cell_size;
+    const PointSearch points(load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
+    result.points_used = points.size();
+
+    std::vector<double> to_mesh(points.size());
+    const TriangleSearch triangles(mesh);
+    const std::vector<std::uint32_t> order = spatial_order(points);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const auto& range) {
+        std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
+        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            const std::uint32_t i = order[k];
+            to_mesh[i] = triangles.distance(points.point(i), &hint);
+        }
+    });
+    result.cloud_to_mesh = summarize(to_mesh, result.cell_size);
+
+    const std::vector<Vec3> samples = sample_surface(mesh, options.mesh_samples);
+    result.samples_used = samples.size();
+    std::vector<double> to_cloud(samples.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 4096), [&](const auto& range) {
+        std::uint32_t hint = std::numeric_limits<std::uint32_t>::max(); // samples come triangle by triangle
+        for (std::size_t i = range.begin(); i != range.end(); ++i) to_cloud[i] = points.distance(samples[i], &hint);
+    });
+    result.mesh_to_cloud = summarize(to_cloud, result.cell_size);
+
+    result.vertex_distance.resize(mesh.positions.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), [&](const auto& range) {
+        std::uint32_t hint = std::numeric_limits<std::uint32_t>::max(); // vertices come in lattice order
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            const auto& p = mesh.positions[v];
+            result.vertex_distance[v] = points.distance({p[0], p[1], p[2]}, &hint);
+        }
+    });
+    return result;
+}
+
+std::array<std::uint8_t, 3> heat_color(double distance, double scale) {
+    static const double stops[5][3] = {{0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
+    const double t = scale > 0 ? std::clamp(distance / scale, 0.0, 1.0) * 4 : 4;
+    const int i = std::min(static_cast<int>(t), 3);
+    const double f = t - i;
+    std::array<std::uint8_t, 3> c;
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + f * (stops[i + 1][k] - stops[i][k])));
+    return c;
+}
+
+} // namespace lasmesh
