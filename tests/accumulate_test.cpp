@@ -2,6 +2,7 @@
 // written here, for every slicing, colour depth and grid edge case.
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/error.hpp"
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
 #include "lasmesh/read/las_point.hpp"
 #include "grid/opencl_device.hpp" // internal: build_program
 #include "test_support.hpp"
@@ -11,6 +12,7 @@
 #include <cmath>
 
 using namespace lasmesh;
+using namespace lasmesh::cli;
 using test::Bytes;
 
 namespace {

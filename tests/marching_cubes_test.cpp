@@ -3,6 +3,7 @@
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/marching_cubes_table.hpp"
 #include "lasmesh/error.hpp"
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
 
 #include <doctest/doctest.h>
 #include <tbb/task_arena.h>
@@ -12,6 +13,7 @@
 #include <map>
 
 using namespace lasmesh;
+using namespace lasmesh::cli;
 
 namespace {
 

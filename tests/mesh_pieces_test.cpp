@@ -3,12 +3,14 @@
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
 #include "lasmesh/error.hpp"
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 
 using namespace lasmesh;
+using namespace lasmesh::cli;
 
 namespace {
 

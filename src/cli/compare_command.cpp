@@ -1,7 +1,7 @@
 // `lasmesh compare`: reads the mesh, streams the cloud, prints the distance statistics.
 #include "compare_command.hpp"
 
-#include "json_writer.hpp"
+#include "json.hpp"
 #include "lasmesh/measure/compare.hpp"
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/error.hpp"
@@ -26,13 +26,13 @@ Mesh read_mesh(const std::string& path) {
     throw Error(ErrorKind::usage, "\"" + path + "\": unknown mesh extension, expected .ply, .drc or .glb");
 }
 
-void write_stats(JsonWriter& json, const DistanceStats& s) {
-    json.begin_object();
-    json.key("mean").value(s.mean).key("std").value(s.std).key("median").value(s.median);
-    json.key("p95").value(s.p95).key("p99").value(s.p99).key("max").value(s.max);
-    if (s.within_1_cell >= 0)
-        json.key("within_1_cell").value(s.within_1_cell).key("within_2_cells").value(s.within_2_cells);
-    json.end_object();
+Json stats_json(const DistanceStats& s) {
+    Json json = {{"mean", s.mean}, {"std", s.std}, {"median", s.median}, {"p95", s.p95}, {"p99", s.p99}, {"max", s.max}};
+    if (s.within_1_cell >= 0) {
+        json["within_1_cell"] = s.within_1_cell;
+        json["within_2_cells"] = s.within_2_cells;
+    }
+    return json;
 }
 
 void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
@@ -77,19 +77,14 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
     const CompareResult r = compare(mesh, cloud, options);
 
     if (o.json) {
-        JsonWriter json;
-        json.begin_object();
-        json.key("cloud_to_mesh");
-        write_stats(json, r.cloud_to_mesh);
-        json.key("mesh_to_cloud");
-        write_stats(json, r.mesh_to_cloud);
-        json.key("points_read").value(r.points_read).key("points_used").value(r.points_used);
-        json.key("samples_used").value(r.samples_used);
-        json.key("cell_size");
-        if (r.cell_size > 0) json.value(r.cell_size);
-        else json.value(std::numeric_limits<double>::quiet_NaN()); // null: unknown
-        json.end_object();
-        out << json.str() << "\n";
+        Json json;
+        json["cloud_to_mesh"] = stats_json(r.cloud_to_mesh);
+        json["mesh_to_cloud"] = stats_json(r.mesh_to_cloud);
+        json["points_read"] = r.points_read;
+        json["points_used"] = r.points_used;
+        json["samples_used"] = r.samples_used;
+        json["cell_size"] = r.cell_size > 0 ? Json(r.cell_size) : Json(nullptr); // null: unknown
+        out << json_line(json) << "\n";
     } else {
         out << std::setprecision(4) << "mesh           " << o.mesh << ": " << mesh.positions.size() << " vertices, "
             << mesh.triangles.size() << " triangles\n"

@@ -1,7 +1,7 @@
 // `lasmesh grid`: accumulate and report the grid (cells, occupancy, points outside, colour depth).
 #include "grid_command.hpp"
 
-#include "json_writer.hpp"
+#include "json.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -32,20 +32,18 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     const double outside_share = grid.points_read ? double(grid.points_outside) / grid.points_read : 0.0;
     const char* depth = !grid.has_color() ? "none" : grid.color_is_16bit() ? "16-bit" : "8-bit in 16-bit fields";
     if (options.json) {
-        JsonWriter json;
-        json.begin_object();
-        json.key("device").value(device.info().name);
-        json.key("dims").array(grid.spec.dims);
-        json.key("cell_size").value(grid.spec.cell_size);
-        json.key("origin").array(grid.spec.origin);
-        json.key("points_read").value(grid.points_read);
-        json.key("points_outside").value(grid.points_outside);
-        json.key("occupied_cells").value(occupied);
-        json.key("max_points_per_cell").value(fullest);
-        json.key("color").value(depth);
-        json.key("seconds").value(seconds);
-        json.end_object();
-        out << json.str() << '\n';
+        Json json;
+        json["device"] = device.info().name;
+        json["dims"] = grid.spec.dims;
+        json["cell_size"] = grid.spec.cell_size;
+        json["origin"] = grid.spec.origin;
+        json["points_read"] = grid.points_read;
+        json["points_outside"] = grid.points_outside;
+        json["occupied_cells"] = occupied;
+        json["max_points_per_cell"] = fullest;
+        json["color"] = depth;
+        json["seconds"] = seconds;
+        out << json_line(json) << '\n';
         return;
     }
     out << "device               " << device.info().name << " (" << device.info().type << ")\n"

@@ -1,6 +1,8 @@
 // Grid and device options: one declaration, used by `lasmesh grid` and the meshing command.
 #include "grid_options.hpp"
 
+#include "option_parsing.hpp"
+
 #include "lasmesh/error.hpp"
 #include "lasmesh/read/las_scan.hpp"
 
@@ -36,11 +38,15 @@ AccumulateOptions accumulate_options(const GridOptions& o) {
     return a;
 }
 
-Bounds scan_bounds(const std::string& input) {
+void check_scan_bounds_input(const std::string& input) {
     // A regular file can be opened again for the second pass; a pipe's bytes are gone.
     if (input == "-" || !std::filesystem::is_regular_file(input))
         throw Error(ErrorKind::usage, "--scan-bounds reads the input twice, so it needs a regular file, not \"" +
                                           input + "\": save the stream to a file, or give --bounds");
+}
+
+Bounds scan_bounds(const std::string& input) {
+    check_scan_bounds_input(input);
     LasReader reader(input);
     const ScanResult scan = scan_points(reader);
     return {scan.min, scan.max};

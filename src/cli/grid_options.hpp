@@ -28,6 +28,9 @@ AccumulateOptions accumulate_options(const GridOptions& options);
 // a second, gridding pass. Throws Error (usage) for standard input or a pipe, which cannot be read
 // twice.
 Bounds scan_bounds(const std::string& input);
+// The check scan_bounds makes first, alone: for a command that leaves the scan to the library
+// but wants the error to name the option.
+void check_scan_bounds_input(const std::string& input);
 
 // A line advising --scan-bounds or --bounds when points fell outside the grid; empty otherwise.
 std::string outside_advice(std::uint64_t points_outside, std::uint64_t points_read);

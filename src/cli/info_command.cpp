@@ -1,7 +1,7 @@
 // `lasmesh info`: text for people, one JSON object with --json.
 #include "info_command.hpp"
 
-#include "json_writer.hpp"
+#include "json.hpp"
 #include "lasmesh/read/las_reader.hpp"
 #include "lasmesh/read/las_scan.hpp"
 
@@ -20,36 +20,27 @@ std::string join(const Rgb16& v) {
 }
 
 void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
-    JsonWriter json;
-    json.begin_object();
-    json.key("version").value(version_string(h));
-    json.key("point_format").value(std::uint64_t{h.point_format});
-    json.key("point_record_length").value(std::uint64_t{h.point_record_length});
-    json.key("point_count").value(h.point_count);
-    json.key("scale").array(h.scale);
-    json.key("offset").array(h.offset);
-    json.key("bounds").begin_object().key("min").array(h.min).key("max").array(h.max).end_object();
-    json.key("has_color").value(has_color(h));
-    json.key("vlrs").begin_array();
-    for (const Vlr& vlr : h.vlrs) {
-        json.begin_object();
-        json.key("user_id").value(vlr.user_id);
-        json.key("record_id").value(std::uint64_t{vlr.record_id});
-        json.key("length").value(std::uint64_t{vlr.length});
-        json.key("description").value(vlr.description);
-        json.end_object();
-    }
-    json.end_array();
-    if (scan) {
-        json.key("scanned").begin_object();
-        json.key("point_count").value(scan->point_count);
-        json.key("bounds").begin_object().key("min").array(scan->min).key("max").array(scan->max).end_object();
-        json.key("color_min").array(scan->color_min);
-        json.key("color_max").array(scan->color_max);
-        json.end_object();
-    }
-    json.end_object();
-    out << json.str() << '\n';
+    Json json;
+    json["version"] = version_string(h);
+    json["point_format"] = h.point_format;
+    json["point_record_length"] = h.point_record_length;
+    json["point_count"] = h.point_count;
+    json["scale"] = h.scale;
+    json["offset"] = h.offset;
+    json["bounds"] = {{"min", h.min}, {"max", h.max}};
+    json["has_color"] = has_color(h);
+    json["vlrs"] = Json::array();
+    for (const Vlr& vlr : h.vlrs)
+        json["vlrs"].push_back({{"user_id", latin1_to_utf8(vlr.user_id)},
+                                {"record_id", vlr.record_id},
+                                {"length", vlr.length},
+                                {"description", latin1_to_utf8(vlr.description)}});
+    if (scan)
+        json["scanned"] = {{"point_count", scan->point_count},
+                           {"bounds", {{"min", scan->min}, {"max", scan->max}}},
+                           {"color_min", scan->color_min},
+                           {"color_max", scan->color_max}};
+    out << json_line(json) << '\n';
 }
 
 void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, std::ostream& out) {

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "grid_options.hpp"
-#include "lasmesh/io/draco_writer.hpp"
+#include "lasmesh/build_mesh.hpp"
 
 #include <ostream>
 #include <string>

@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
 namespace lasmesh {
@@ -90,21 +89,6 @@ double automatic_iso(const DensityGrid& grid) {
     auto middle = occupied.begin() + occupied.size() / 2;
     std::nth_element(occupied.begin(), middle, occupied.end());
     return std::max(1.0, std::floor(0.1 * static_cast<double>(*middle)));
-}
-
-double parse_iso(const std::string& text) {
-    if (text == "auto") return -1;
-    double value = 0;
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !(value >= 0) || !std::isfinite(value))
-        throw Error(ErrorKind::usage, "--iso \"" + text + "\": expected a number of points per cell (>= 0) or auto");
-    return value;
-}
-
-VertexPlacement parse_placement(const std::string& text) {
-    if (text == "surface") return VertexPlacement::surface;
-    if (text == "iso") return VertexPlacement::iso;
-    throw Error(ErrorKind::usage, "--placement \"" + text + "\": expected surface or iso");
 }
 
 Mesh extract_isosurface(const DensityGrid& grid, double iso, VertexPlacement placement) {

@@ -4,7 +4,6 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -36,18 +35,6 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v) {
 }
 
 } // namespace
-
-MinPiece parse_min_piece(const std::string& text) {
-    const bool relative = !text.empty() && text.back() == '%';
-    const std::string number = relative ? text.substr(0, text.size() - 1) : text;
-    double value = 0;
-    const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
-    if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) ||
-        value < 0 || (relative && value > 100))
-        throw Error(ErrorKind::usage, "--min-piece \"" + text +
-                                          "\": expected a percentage of the mesh diagonal (e.g. 5%), a length, or 0");
-    return {relative ? value / 100 : value, relative};
-}
 
 PieceCount remove_small_pieces(Mesh& mesh, MinPiece min_piece) {
     const std::size_t nv = mesh.positions.size();

@@ -23,7 +23,9 @@ cmake --build "$dir/consumer" > "$dir/build.log" 2>&1
 check "the consumer builds and links" test $? -eq 0 || tail -20 "$dir/build.log"
 "$lasgen" --scene sphere --points 20000 -o "$dir/s.las"
 "$dir/consumer/consumer" "$dir/s.las" "$dir/s.ply" > "$dir/out.txt"
+check "the consumer's build_mesh call succeeds" test $? -eq 0
 check "the consumer reads and meshes" grep -q "^20000 points, [1-9][0-9]* triangles" "$dir/out.txt"
+check "the consumer's mesh is closed" grep -q "triangles, closed$" "$dir/out.txt"
 check "the consumer's PLY is written" test -s "$dir/s.ply"
 
 finish "install"

@@ -1,36 +1,32 @@
-// Reads a LAS file through the installed library and meshes a grid built on the host: the
-// headers, the reader (Boost.Iostreams inside), the extractor (TBB) and the PLY writer link.
-#include <lasmesh/read/las_point.hpp>
-#include <lasmesh/read/las_reader.hpp>
-#include <lasmesh/mesh/marching_cubes.hpp>
-#include <lasmesh/io/ply_writer.hpp>
+// Meshes a LAS file through the installed library's one entry point, build_mesh, and checks
+// the result: the headers, the reader (Boost.Iostreams inside), the OpenCL accumulation, the
+// extractor (TBB) and the PLY writer all link from the package alone.
+#include <lasmesh/build_mesh.hpp>
 
-#include <cmath>
 #include <iostream>
-#include <vector>
+#include <map>
+#include <utility>
 
 int main(int argc, char** argv) {
     if (argc != 3) return 1;
-    lasmesh::LasReader reader(argv[1]);
-    const lasmesh::PointDecoder decoder(reader.header());
-    lasmesh::DensityGrid grid;
-    grid.spec.dims = {16, 16, 16};
-    grid.spec.origin = reader.header().min;
-    grid.spec.cell_size = (reader.header().max[0] - reader.header().min[0]) / 15.99;
-    grid.count.assign(grid.spec.cell_count(), 0);
-    std::vector<std::byte> chunk(4096 * decoder.record_length);
-    while (std::size_t n = reader.read_records(chunk))
-        for (std::size_t r = 0; r < n; ++r) {
-            const lasmesh::Vec3 p = decoder.position(chunk.data() + r * decoder.record_length);
-            std::uint64_t cell = 0;
-            for (int a = 2; a >= 0; --a) {
-                const auto i = static_cast<std::uint64_t>((p[a] - grid.spec.origin[a]) / grid.spec.cell_size);
-                cell = cell * 16 + std::min<std::uint64_t>(i, 15);
-            }
-            ++grid.count[cell];
-        }
-    const lasmesh::Mesh mesh = lasmesh::extract_isosurface(grid, 0.5);
-    lasmesh::write_ply(mesh, argv[2], false);
-    std::cout << reader.records_read() << " points, " << mesh.triangles.size() << " triangles\n";
-    return mesh.triangles.empty() ? 1 : 0;
+    lasmesh::BuildOptions options;
+    options.grid.dims = {32, 0, 0}; // a coarse grid: the test scene is small
+    options.outputs.push_back({argv[2], lasmesh::MeshFormat::ply});
+    options.keep_mesh = true;
+    const lasmesh::BuildResult result = lasmesh::build_mesh(argv[1], options);
+    const lasmesh::Mesh& mesh = *result.mesh;
+
+    // Closed: every edge is shared by exactly two triangles, once in each direction.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (const auto& t : mesh.triangles)
+        for (int c = 0; c < 3; ++c) ++edges[{t[c], t[(c + 1) % 3]}];
+    bool closed = !mesh.triangles.empty();
+    for (const auto& [edge, count] : edges)
+        closed = closed && count == 1 && edges.count({edge.second, edge.first}) == 1;
+
+    std::cout << result.report.points_read << " points, " << mesh.triangles.size() << " triangles, "
+              << (closed ? "closed" : "open") << "\n";
+    const bool counts_agree = result.report.triangles == mesh.triangles.size() &&
+                              result.report.vertices == mesh.positions.size() && result.report.outputs.size() == 1;
+    return closed && counts_agree ? 0 : 1;
 }

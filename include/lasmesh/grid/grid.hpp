@@ -24,12 +24,6 @@ struct GridRequest {
     double voxel = 0;                              // voxel_size: cell edge in file units
 };
 
-// Parses "--grid" text: "256" or "256x512x256". Throws Error (usage) quoting the text.
-GridRequest parse_grid_request(const std::string& text);
-GridRequest voxel_request(double cell_size); // throws Error (usage) unless positive and finite
-// Parses "minx,miny,minz,maxx,maxy,maxz"; throws Error (usage) quoting the text.
-Bounds parse_bounds(const std::string& text);
-
 // Cubic cells of edge `cell_size`; cell (i, j, k) spans origin + [i, i+1) * cell_size on x (and
 // likewise y, z), except that the last cell on each axis is closed: a point exactly on the upper
 // face belongs to it. Cells are stored x fastest: index = (k * ny + j) * nx + i.

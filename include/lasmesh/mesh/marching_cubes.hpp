@@ -14,9 +14,6 @@ namespace lasmesh {
 // density: sparse parts still close while stray single points stay outside.
 double automatic_iso(const DensityGrid& grid);
 
-// Parses "--iso" text: a non-negative number or "auto" (returns a negative value for auto).
-double parse_iso(const std::string& text);
-
 // Where a vertex goes along its crossed edge.
 enum class VertexPlacement {
     // At half the local layer's count (see edge_fraction in marching_cubes.cpp): on the scanned
@@ -26,9 +23,6 @@ enum class VertexPlacement {
     // Classic marching cubes: linear interpolation of the counts at the iso value.
     iso,
 };
-
-// Parses "--placement" text: "surface" or "iso".
-VertexPlacement parse_placement(const std::string& text); // throws Error (usage)
 
 // The surface between cells with count > iso (inside) and the others. The samples are the cell
 // centres; the grid is padded with one layer of empty cells, so every surface closes. One

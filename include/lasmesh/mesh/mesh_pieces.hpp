@@ -17,9 +17,6 @@ struct MinPiece {
     bool relative = true; // value is a fraction of the mesh diagonal
 };
 
-// Parses "--min-piece" text: "5%" (of the mesh diagonal), "2.5" (file units) or "0" (keep all).
-MinPiece parse_min_piece(const std::string& text); // throws Error (usage)
-
 struct PieceCount {
     std::size_t pieces = 0;  // connected pieces before removal
     std::size_t removed = 0; // pieces removed

@@ -1,0 +1,115 @@
+// lasmesh as one library call: a LAS point cloud in, a closed, coloured triangle mesh out.
+//
+//     lasmesh::BuildOptions options;
+//     options.grid.dims = {512, 0, 0};                        // 512 cells along the longest axis
+//     options.outputs.push_back({"deck.glb", lasmesh::MeshFormat::glb});
+//     lasmesh::BuildResult result = lasmesh::build_mesh("deck.las", options);
+//
+// The stages, in order, each in its own folder of src/ and include/lasmesh/:
+//   read     the input stream (file, pipe, gzip/bzip2/xz/zstd), the LAS header, the records
+//   grid     the points counted into cubic cells on an OpenCL device, with their mean colours
+//   mesh     the iso-surface by marching cubes, then small isolated pieces removed
+//   io       each requested output written (PLY, Draco, glTF) through a temporary file
+// Every failure is an Error with its kind (see error.hpp); nothing is written to a stream:
+// progress and details go to the BuildObserver, numbers to the RunReport.
+#pragma once
+
+#include "lasmesh/grid/grid.hpp"
+#include "lasmesh/io/draco_writer.hpp"
+#include "lasmesh/mesh.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/mesh_pieces.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lasmesh {
+
+enum class MeshFormat {
+    ply,   // PLY, binary little-endian unless `ascii`
+    draco, // .drc: Draco-compressed mesh
+    glb,   // glTF 2.0 binary with the KHR_draco_mesh_compression extension
+};
+
+// One file to write. Its folder is checked before anything is read, so nobody waits to learn
+// that it cannot be written; the file appears complete or not at all (see io/output_file.hpp).
+struct OutputRequest {
+    std::string path;
+    MeshFormat format = MeshFormat::ply;
+    bool ascii = false; // ply only
+    DracoOptions draco; // draco and glb only
+};
+
+struct BuildOptions {
+    GridRequest grid;                  // cells along the longest axis, per axis, or a cell edge
+    std::optional<Bounds> bounds;      // the region to grid; default: the header bounds
+    bool scan_bounds = false;          // read a file twice, first for its points' real bounds
+    std::optional<double> iso;         // points per cell at the surface; default: automatic_iso
+    VertexPlacement placement = VertexPlacement::surface;
+    MinPiece min_piece;                // default: 5% of the mesh diagonal
+    std::string device = "auto";       // "auto" (a GPU if any), an index or part of a name
+    int threads = 0;                   // extraction threads; 0: all cores
+    std::uint64_t slice_bytes = 0;     // largest upload to the device; 0: 16 MiB
+    std::uint64_t max_memory = 0;      // refuse grids needing more (host and device); 0: no limit
+    std::vector<OutputRequest> outputs;
+    bool keep_mesh = false;            // return the mesh in BuildResult (it can be large)
+};
+
+// Everything a run measured, in the order of the command line's --report JSON.
+struct OutputReport {
+    std::string path;
+    std::uint64_t bytes = 0;
+    double seconds = 0;
+};
+
+struct RunReport {
+    std::string input, device;         // the input's name ("standard input" for -), the device's
+    std::uint64_t points_read = 0, points_outside = 0;
+    GridSpec grid;
+    double iso = 0;
+    bool iso_auto = false;
+    VertexPlacement placement = VertexPlacement::surface;
+    PieceCount pieces;
+    std::size_t vertices = 0, triangles = 0;
+    bool colored = false;
+    Vec3 origin{};                     // output positions are relative to it
+    std::vector<OutputReport> outputs;
+    double read_accumulate = 0, extract = 0, write = 0, total = 0; // seconds
+    std::uint64_t peak_rss_bytes = 0;
+};
+
+struct BuildResult {
+    std::optional<Mesh> mesh; // when options.keep_mesh
+    RunReport report;
+};
+
+enum class BuildStage { read_accumulate, extract, write };
+
+// Progress callbacks, all no-ops by default: override what you show. Called on the calling
+// thread, in order; an exception thrown from one ends the run with that exception.
+struct BuildObserver {
+    virtual ~BuildObserver() = default;
+    // `what` is a short description: "extracting the surface", "writing deck.glb".
+    virtual void stage_started(BuildStage, const std::string& /*what*/) {}
+    // `so_far` holds the fields measured up to the end of this stage.
+    virtual void stage_ended(BuildStage, const RunReport& /*so_far*/) {}
+    // After each slice of records: points so far of the promised total, and the input's bytes
+    // consumed (compressed bytes for a compressed stream) of its size when known.
+    virtual void points_read(std::uint64_t /*points*/, std::uint64_t /*points_total*/, std::uint64_t /*bytes*/,
+                             std::optional<std::uint64_t> /*bytes_total*/) {}
+    // One line of detail as a step ends (the command line's --verbose), without a newline.
+    virtual void detail(const std::string& /*line*/) {}
+};
+
+// Reads `input` (a LAS path, or "-" for standard input), builds the density grid, extracts the
+// surface, removes small pieces and writes every output. Throws Error: usage for options that
+// cannot work (no outputs, a grid that does not fit), input, device or output otherwise.
+BuildResult build_mesh(const std::string& input, const BuildOptions& options, BuildObserver* observer = nullptr);
+
+// The format an output path's extension names (.ply, .drc, .glb, any case), or nullopt.
+std::optional<MeshFormat> format_from_extension(const std::string& path);
+
+} // namespace lasmesh

@@ -1,0 +1,155 @@
+// The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces -> write
+// each output, timed per stage and per output.
+#include "lasmesh/build_mesh.hpp"
+
+#include "lasmesh/error.hpp"
+#include "lasmesh/grid/density_grid.hpp"
+#include "lasmesh/io/gltf_writer.hpp"
+#include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/ply_writer.hpp"
+#include "lasmesh/read/las_scan.hpp"
+
+#include <tbb/global_control.h>
+
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include <sys/resource.h>
+
+namespace lasmesh {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Detail lines use the same number forms as the command line's summary: shortest round trip,
+// two significant digits for timings, megabytes with one decimal.
+std::string shortest(double value) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
+
+std::string two_digits(double value) {
+    std::ostringstream text;
+    text << std::setprecision(2) << value;
+    return text.str();
+}
+
+std::string megabytes(std::uint64_t bytes) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << bytes / 1e6 << " MB";
+    return text.str();
+}
+
+std::uint64_t peak_rss_bytes() {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024; // Linux reports kilobytes
+}
+
+// The real bounds of a file's points, for a second, gridding pass. A pipe's bytes are gone
+// after one pass, so only a regular file can be scanned.
+Bounds scanned_bounds(const std::string& input) {
+    if (input == "-" || !std::filesystem::is_regular_file(input))
+        throw Error(ErrorKind::usage, "scanning the bounds reads the input twice, so it needs a regular file, not \"" +
+                                          input + "\"");
+    LasReader reader(input);
+    const ScanResult scan = scan_points(reader);
+    return {scan.min, scan.max};
+}
+
+void write_output(const Mesh& mesh, const OutputRequest& output) {
+    switch (output.format) {
+    case MeshFormat::ply: write_ply(mesh, output.path, output.ascii); break;
+    case MeshFormat::draco: write_draco(mesh, output.path, output.draco); break;
+    case MeshFormat::glb: write_glb(mesh, output.path, output.draco); break;
+    }
+}
+
+} // namespace
+
+std::optional<MeshFormat> format_from_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".ply") return MeshFormat::ply;
+    if (ext == ".drc") return MeshFormat::draco;
+    if (ext == ".glb") return MeshFormat::glb;
+    return std::nullopt;
+}
+
+BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
+    BuildObserver silent;
+    BuildObserver& watch = observer ? *observer : silent;
+    if (o.outputs.empty() && !o.keep_mesh) throw Error(ErrorKind::usage, "no output requested: nothing to do");
+    for (const OutputRequest& output : o.outputs) check_output_folder(output.path); // before reading
+    std::optional<tbb::global_control> thread_limit;
+    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
+
+    BuildResult result;
+    RunReport& r = result.report;
+    const auto start = std::chrono::steady_clock::now();
+    AccumulateOptions accumulate;
+    accumulate.grid = o.grid;
+    accumulate.bounds = o.scan_bounds ? std::optional<Bounds>(scanned_bounds(input)) : o.bounds;
+    accumulate.slice_bytes = o.slice_bytes;
+    accumulate.max_memory = o.max_memory;
+    LasReader reader(input);
+    // An empty mesh is no use and Draco cannot encode one: say so before any device work.
+    if (reader.header().point_count == 0)
+        throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
+    ComputeDevice device(o.device);
+    r.input = reader.stream().name();
+    r.device = device.info().name;
+    watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
+    watch.detail("reading        " + r.input + ": LAS " + version_string(reader.header()) + ", point format " +
+                 std::to_string(reader.header().point_format) + ", " + std::to_string(reader.header().point_count) +
+                 " points promised");
+    watch.detail("device         " + r.device + " (" + device.info().platform + "), " +
+                 megabytes(device.info().global_memory) + " memory, largest buffer " + megabytes(device.info().max_alloc));
+    accumulate.on_slice = [&](std::uint64_t points) {
+        watch.points_read(points, reader.header().point_count, reader.stream().raw_position(), reader.stream().raw_size());
+    };
+    const DensityGrid grid = accumulate_density(reader, device, accumulate);
+    r.read_accumulate = seconds_since(start);
+    r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
+    watch.stage_ended(BuildStage::read_accumulate, r);
+    watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +
+                 megabytes(memory_need(grid.spec, grid.has_color(), 0).largest_buffer) + " of grid in " +
+                 two_digits(r.read_accumulate) + " s");
+
+    watch.stage_started(BuildStage::extract, "extracting the surface");
+    const auto extract_start = std::chrono::steady_clock::now();
+    r.iso_auto = !o.iso;
+    r.iso = o.iso ? *o.iso : automatic_iso(grid);
+    r.placement = o.placement;
+    Mesh mesh = extract_isosurface(grid, r.iso, o.placement);
+    watch.detail("extracted      " + std::to_string(mesh.triangles.size()) + " triangles at iso " + shortest(r.iso));
+    r.pieces = remove_small_pieces(mesh, o.min_piece);
+    r.extract = seconds_since(extract_start);
+    r.vertices = mesh.positions.size(), r.triangles = mesh.triangles.size(), r.colored = !mesh.colors.empty();
+    r.origin = mesh.origin;
+    watch.stage_ended(BuildStage::extract, r);
+
+    const auto write_start = std::chrono::steady_clock::now();
+    for (const OutputRequest& output : o.outputs) {
+        watch.stage_started(BuildStage::write, "writing " + output.path);
+        const auto output_start = std::chrono::steady_clock::now();
+        write_output(mesh, output);
+        r.outputs.push_back({output.path, std::filesystem::file_size(output.path), seconds_since(output_start)});
+        watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");
+    }
+    r.write = seconds_since(write_start);
+    r.total = seconds_since(start);
+    r.peak_rss_bytes = peak_rss_bytes();
+    watch.stage_ended(BuildStage::write, r);
+    if (o.keep_mesh) result.mesh = std::move(mesh);
+    return result;
+}
+
+} // namespace lasmesh

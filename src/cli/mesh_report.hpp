@@ -1,0 +1,25 @@
+// How the meshing command presents a run: the text summary for people, the --report JSON for
+// pipelines. Both read the library's RunReport; neither changes it.
+#pragma once
+
+#include "lasmesh/build_mesh.hpp"
+
+#include <ostream>
+#include <string>
+
+namespace lasmesh::cli {
+
+// What the summary needs beyond the report: the options as the user spelled them.
+struct SummaryContext {
+    std::string min_piece_text; // "5%": quoted when the threshold is relative
+    bool relative_min_piece = true;
+    const Mesh* mesh = nullptr; // for the Draco line: bits and step depend on the mesh
+    DracoOptions draco;
+    bool any_draco = false;
+};
+
+void print_summary(const RunReport& report, const SummaryContext& context, std::ostream& out);
+// Writes `report` as one JSON object to `path` (through OutputFile: complete or absent).
+void write_report_json(const RunReport& report, const std::string& path);
+
+} // namespace lasmesh::cli

@@ -1,0 +1,101 @@
+// Option text parsers: strict (the whole text must be used) and quoting the text in each error.
+#include "option_parsing.hpp"
+
+#include "lasmesh/error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <vector>
+
+namespace lasmesh::cli {
+
+namespace {
+
+[[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
+
+std::uint32_t parse_cells(const std::string& part, const std::string& whole) {
+    std::uint32_t value = 0;
+    auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (ec != std::errc() || end != part.data() + part.size() || value == 0 || value > 65536)
+        usage_error("--grid \"" + whole + "\": expected N or NXxNYxNZ with whole numbers from 1 to 65536");
+    return value;
+}
+
+} // namespace
+
+GridRequest parse_grid_request(const std::string& text) {
+    GridRequest request;
+    const std::size_t first = text.find('x');
+    if (first == std::string::npos) {
+        request.kind = GridRequest::Kind::longest_axis;
+        request.dims = {parse_cells(text, text), 0, 0};
+        return request;
+    }
+    const std::size_t second = text.find('x', first + 1);
+    if (second == std::string::npos || text.find('x', second + 1) != std::string::npos)
+        usage_error("--grid \"" + text + "\": expected N or NXxNYxNZ, e.g. 256 or 512x256x128");
+    request.kind = GridRequest::Kind::explicit_dims;
+    request.dims = {parse_cells(text.substr(0, first), text), parse_cells(text.substr(first + 1, second - first - 1), text),
+                    parse_cells(text.substr(second + 1), text)};
+    return request;
+}
+
+GridRequest voxel_request(double cell_size) {
+    if (!(cell_size > 0) || !std::isfinite(cell_size))
+        usage_error("--voxel " + std::to_string(cell_size) + ": the cell edge must be a positive number");
+    GridRequest request;
+    request.kind = GridRequest::Kind::voxel_size;
+    request.voxel = cell_size;
+    return request;
+}
+
+Bounds parse_bounds(const std::string& text) {
+    const std::string expected = "--bounds \"" + text + "\": expected six numbers minx,miny,minz,maxx,maxy,maxz";
+    std::vector<double> values;
+    std::size_t at = 0;
+    while (at <= text.size()) {
+        std::size_t comma = std::min(text.find(',', at), text.size());
+        double value = 0;
+        auto [end, ec] = std::from_chars(text.data() + at, text.data() + comma, value);
+        if (comma == at || ec != std::errc() || end != text.data() + comma || !std::isfinite(value)) usage_error(expected);
+        values.push_back(value);
+        at = comma + 1;
+    }
+    if (values.size() != 6) usage_error(expected);
+    Bounds b;
+    for (int a = 0; a < 3; ++a) {
+        b.min[a] = values[a];
+        b.max[a] = values[a + 3];
+        if (b.min[a] > b.max[a]) usage_error("--bounds \"" + text + "\": a minimum is larger than its maximum");
+    }
+    return b;
+}
+
+double parse_iso(const std::string& text) {
+    if (text == "auto") return -1;
+    double value = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !(value >= 0) || !std::isfinite(value))
+        usage_error("--iso \"" + text + "\": expected a number of points per cell (>= 0) or auto");
+    return value;
+}
+
+VertexPlacement parse_placement(const std::string& text) {
+    if (text == "surface") return VertexPlacement::surface;
+    if (text == "iso") return VertexPlacement::iso;
+    usage_error("--placement \"" + text + "\": expected surface or iso");
+}
+
+MinPiece parse_min_piece(const std::string& text) {
+    const bool relative = !text.empty() && text.back() == '%';
+    const std::string number = relative ? text.substr(0, text.size() - 1) : text;
+    double value = 0;
+    const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
+    if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) ||
+        value < 0 || (relative && value > 100))
+        usage_error("--min-piece \"" + text + "\": expected a percentage of the mesh diagonal (e.g. 5%), a length, or 0");
+    return {relative ? value / 100 : value, relative};
+}
+
+} // namespace lasmesh::cli

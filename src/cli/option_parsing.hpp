@@ -1,0 +1,27 @@
+// Option text to typed values: the command line's spellings (--grid 256x512x256, --iso auto,
+// --min-piece 5%) live here and nowhere in the library, which takes the typed values only.
+// Each parser throws Error (usage) quoting the option and the text it could not use.
+#pragma once
+
+#include "lasmesh/grid/grid.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/mesh_pieces.hpp"
+
+#include <string>
+
+namespace lasmesh::cli {
+
+// "--grid": "256" (cells along the longest axis) or "256x512x256".
+GridRequest parse_grid_request(const std::string& text);
+// "--voxel": a cell edge; refused unless positive and finite.
+GridRequest voxel_request(double cell_size);
+// "--bounds": "minx,miny,minz,maxx,maxy,maxz".
+Bounds parse_bounds(const std::string& text);
+// "--iso": a non-negative number or "auto" (returns a negative value for auto).
+double parse_iso(const std::string& text);
+// "--placement": "surface" or "iso".
+VertexPlacement parse_placement(const std::string& text);
+// "--min-piece": "5%" (of the mesh diagonal), "2.5" (file units) or "0" (keep all).
+MinPiece parse_min_piece(const std::string& text);
+
+} // namespace lasmesh::cli
