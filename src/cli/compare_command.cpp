@@ -11,7 +11,6 @@
 
 #include <filesystem>
 #include <iomanip>
-#include <limits>
 
 namespace lasmesh::cli {
 
