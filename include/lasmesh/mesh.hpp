@@ -1,4 +1,4 @@
-// An indexed triangle mesh with optional per-vertex colour, positions in a local frame.
+// An indexed triangle mesh with optional per-vertex colour and normals, positions in a local frame.
 #pragma once
 
 #include "lasmesh/read/las_header.hpp"
@@ -18,6 +18,9 @@ struct Mesh {
     double cell_size = 0;
     std::vector<std::array<float, 3>> positions;
     std::vector<std::array<std::uint8_t, 3>> colors; // one per vertex, or empty: no colour
+    // Unit normals, one per vertex, or empty. They point to the side the triangles face
+    // (counter-clockwise winding seen from there).
+    std::vector<std::array<float, 3>> normals;
     std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 

@@ -65,11 +65,13 @@ PieceCount remove_small_pieces(Mesh& mesh, MinPiece min_piece) {
         if (boxes[root].diagonal() >= count.min_diagonal) {
             mesh.positions[kept] = mesh.positions[v];
             if (!mesh.colors.empty()) mesh.colors[kept] = mesh.colors[v];
+            if (!mesh.normals.empty()) mesh.normals[kept] = mesh.normals[v];
             new_id[v] = kept++;
         }
     }
     mesh.positions.resize(kept);
     if (!mesh.colors.empty()) mesh.colors.resize(kept);
+    if (!mesh.normals.empty()) mesh.normals.resize(kept);
     std::size_t t_kept = 0;
     for (const auto& t : mesh.triangles)
         if (new_id[t[0]] != std::numeric_limits<std::uint32_t>::max())
