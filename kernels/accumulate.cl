@@ -1,33 +1,53 @@
-// Density and colour accumulation: one work-item per raw LAS point record.
+// Sparse accumulation: every point counted into its grid cell, with the sums of its colour words
+// and of its position inside the cell, in bricks of B^3 cells allocated on first touch.
 //
-// Each point is assigned to a cell by comparing its raw 32-bit integer coordinates with cell
-// start values the host worked out once per axis (see lasmesh::axis_cells), so the result is the
-// same on every device, whatever its floating point. Per cell it adds 1 to the count and the
-// stored R, G, B words to the colour sums, as 64-bit sums built from 32-bit atomics: exact and
-// independent of the order of the points, and no overflow even for billions of points per cell.
+// Cells are decided by comparing the raw 32-bit LAS integers with cell start values the host
+// worked out once per axis (lasmesh::axis_cells), so every device agrees, whatever its floating
+// point. All sums are exact 64-bit integers, so the result does not depend on the order in which
+// points arrive, the slice size or the device.
 //
-// A cell's counters sit together (count, red, green, blue: 4 x 64 bits, one 32-byte block), so a
-// point touches one cache line: scattering into a large grid is bound by memory latency.
+// Three kernels per slice, so no work-item ever waits for another (a spin lock on first touch
+// can hang a CPU device that runs a work-group's items one after the other):
+//   mark_bricks    claims each untouched brick once (compare-and-swap) and lists it;
+//   assign_bricks  gives the listed bricks their slots in the pool, after the host made room;
+//   accumulate     adds each point to its cell. Consecutive records of a scan usually fall in the
+//                  same cell, so a work-item sums a run of RUN records privately and flushes once
+//                  per change of cell: far fewer atomics on acquisition-ordered input.
 //
-// Compile-time options: -D RGB_OFFSET=n when the point format has colour (byte offset of red).
+// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, and RGB_OFFSET=n when the point
+// format has colour (byte offset of red).
+//
+// Cell record, 64-bit words: count, sum x, sum y, sum z (raw LAS units from the cell's start),
+// then with colour the sums of red, green, blue and one unused word (64 bytes: one cache line).
 
+#define B (1 << BRICK_BITS)
+#define PENDING 0xFFFFFFFFu
 #ifdef RGB_OFFSET
 #define CELL_WORDS 8
 #else
-#define CELL_WORDS 2
+#define CELL_WORDS 4
+#endif
+
+#ifdef cl_khr_int64_base_atomics
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+typedef volatile global ulong* sum_ptr;
+void add_sum(sum_ptr sum, ulong value) { atom_add(sum, value); }
+#else
+// Without 64-bit atomics each sum is a pair of 32-bit words, low first; whoever makes the low word
+// wrap carries one into the high word, so the total stays exact.
+typedef volatile global uint* sum_ptr;
+void add_sum(sum_ptr sum, ulong value) {
+    const uint low = (uint)value;
+    const uint old = atomic_add(sum, low);
+    const uint high = (uint)(value >> 32) + (old > 0xFFFFFFFFu - low ? 1u : 0u);
+    if (high) atomic_add(sum + 1, high);
+}
 #endif
 
 uint load_u16(global const uchar* p) { return (uint)p[0] | ((uint)p[1] << 8); }
 
 int load_i32(global const uchar* p) {
     return (int)((uint)p[0] | ((uint)p[1] << 8) | ((uint)p[2] << 16) | ((uint)p[3] << 24));
-}
-
-// pair[0] is the low word, pair[1] the high word of a little-endian 64-bit counter. Whoever
-// makes the low word wrap around carries one into the high word, so the total is exact.
-void add64(volatile global uint* pair, uint value) {
-    uint old = atomic_add(pair, value);
-    if (old > 0xFFFFFFFFu - value) atomic_inc(pair + 1);
 }
 
 // The cell whose raw range [starts[i], starts[i+1]) holds r, or -1 outside [starts[0], starts[n]).
@@ -40,32 +60,86 @@ int find_cell(long r, global const long* starts, int n, float cells_per_raw) {
     return i;
 }
 
-kernel void accumulate(global const uchar* records, uint count, uint record_length,
-                       global const long* starts_x, global const long* starts_y, global const long* starts_z,
-                       int nx, int ny, int nz, float per_raw_x, float per_raw_y, float per_raw_z,
-                       volatile global uint* cells, volatile global uint* stats) {
+// The axes' cell starts and sizes, shared by mark_bricks and accumulate.
+#define GRID_ARGS                                                                                      \
+    global const long *starts_x, global const long *starts_y, global const long *starts_z, int nx, int ny, \
+        int nz, float per_raw_x, float per_raw_y, float per_raw_z, uint bricks_x, uint bricks_y
+
+// Cell (x, y, z) of a record; false when it lies outside the grid.
+#define LOCATE(record, x, y, z, rx, ry, rz)                                                            \
+    const long rx = load_i32(record), ry = load_i32(record + 4), rz = load_i32(record + 8);            \
+    const int x = find_cell(rx, starts_x, nx, per_raw_x);                                                \
+    const int y = find_cell(ry, starts_y, ny, per_raw_y);                                                \
+    const int z = find_cell(rz, starts_z, nz, per_raw_z)
+
+uint brick_of(int x, int y, int z, uint bricks_x, uint bricks_y) {
+    return ((uint)(z >> BRICK_BITS) * bricks_y + (uint)(y >> BRICK_BITS)) * bricks_x + (uint)(x >> BRICK_BITS);
+}
+
+kernel void mark_bricks(global const uchar* records, uint count, uint record_length, GRID_ARGS,
+                        volatile global uint* brick_slot, global uint* new_bricks, volatile global uint* new_count) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     global const uchar* record = records + (ulong)i * record_length;
-    const int cx = find_cell(load_i32(record), starts_x, nx, per_raw_x);
-    const int cy = find_cell(load_i32(record + 4), starts_y, ny, per_raw_y);
-    const int cz = find_cell(load_i32(record + 8), starts_z, nz, per_raw_z);
-    if (cx < 0 || cy < 0 || cz < 0) {
-        add64(stats, 1); // stats[0..1]: points outside the grid
-        return;
-    }
-    volatile global uint* cell = cells + (((ulong)cz * ny + cy) * nx + cx) * CELL_WORDS;
-    add64(cell, 1);
+    LOCATE(record, x, y, z, rx, ry, rz);
+    if (x < 0 || y < 0 || z < 0) return;
+    const uint b = brick_of(x, y, z, bricks_x, bricks_y);
+    // Read first: almost every point finds its brick already there, and a plain read is cheap.
+    if (brick_slot[b] == 0 && atomic_cmpxchg(brick_slot + b, 0u, PENDING) == 0u) new_bricks[atomic_inc(new_count)] = b;
+}
+
+// Slot s + 1 in the index (0 means no brick); the pool's bricks s are zero already.
+kernel void assign_bricks(global const uint* new_bricks, uint count, uint first_slot, global uint* brick_slot) {
+    const uint i = get_global_id(0);
+    if (i < count) brick_slot[new_bricks[i]] = first_slot + i + 1;
+}
+
+void flush(global ulong* pool, ulong cell, ulong* sums) {
+    if (sums[0] == 0) return;
+    global ulong* record = pool + cell * CELL_WORDS;
+    for (int w = 0; w < CELL_WORDS - (CELL_WORDS == 8); ++w)
+        if (sums[w]) add_sum((sum_ptr)(record + w), sums[w]);
+}
+
+kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
+                       global const uint* brick_slot, global ulong* pool, volatile global uint* stats) {
+    const uint first = get_global_id(0) * RUN;
+    if (first >= count) return;
+    const uint end = min(first + RUN, count);
+    ulong cell = (ulong)-1;
+    ulong sums[CELL_WORDS] = {0};
+    uint outside = 0, largest = 0;
+    for (uint i = first; i < end; ++i) {
+        global const uchar* record = records + (ulong)i * record_length;
+        LOCATE(record, x, y, z, rx, ry, rz);
+        if (x < 0 || y < 0 || z < 0) {
+            ++outside;
+            continue;
+        }
+        const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)] - 1;
+        const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
+        const ulong here = (ulong)slot * (B * B * B) + in_brick;
+        if (here != cell) {
+            flush(pool, cell, sums);
+            for (int w = 0; w < CELL_WORDS; ++w) sums[w] = 0;
+            cell = here;
+        }
+        sums[0] += 1;
+        sums[1] += (ulong)(rx - starts_x[x]);
+        sums[2] += (ulong)(ry - starts_y[y]);
+        sums[3] += (ulong)(rz - starts_z[z]);
 #ifdef RGB_OFFSET
-    const uint r = load_u16(record + RGB_OFFSET);
-    const uint g = load_u16(record + RGB_OFFSET + 2);
-    const uint b = load_u16(record + RGB_OFFSET + 4);
-    add64(cell + 2, r);
-    add64(cell + 4, g);
-    add64(cell + 6, b);
-    // stats[2]: the largest colour word, which tells 8-bit from 16-bit colour. Read before the
-    // atomic so that the one shared word is written only when the maximum actually grows.
-    const uint largest = max(r, max(g, b));
-    if (largest > stats[2]) atomic_max(stats + 2, largest);
+        const uint r = load_u16(record + RGB_OFFSET), g = load_u16(record + RGB_OFFSET + 2),
+                   b = load_u16(record + RGB_OFFSET + 4);
+        sums[4] += r;
+        sums[5] += g;
+        sums[6] += b;
+        largest = max(largest, max(r, max(g, b)));
 #endif
+    }
+    flush(pool, cell, sums);
+    // stats[0..1]: points outside the grid, a 64-bit sum; stats[2]: the largest colour word, which
+    // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
+    if (outside) add_sum((sum_ptr)stats, outside);
+    if (largest > stats[2]) atomic_max(stats + 2, largest);
 }

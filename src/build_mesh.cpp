@@ -118,17 +118,20 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const DensityGrid grid = accumulate_density(reader, device, accumulate);
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
+    r.occupied_cells = grid.occupied_cells(), r.occupied_bricks = grid.brick_keys.size();
+    r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +
-                 megabytes(memory_need(grid.spec, grid.has_color(), 0).largest_buffer) + " of grid in " +
+                 megabytes(r.pool_bytes) + " of bricks in " +
                  two_digits(r.read_accumulate) + " s");
 
     watch.stage_started(BuildStage::extract, "extracting the surface");
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
     r.iso = o.iso ? *o.iso : automatic_iso(grid);
+    r.surface = o.surface;
     r.placement = o.placement;
-    Mesh mesh = extract_isosurface(grid, r.iso, o.placement);
+    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(grid, r.iso) : extract_isosurface(grid, r.iso, o.placement);
     watch.detail("extracted      " + std::to_string(mesh.triangles.size()) + " triangles at iso " + shortest(r.iso));
     r.pieces = remove_small_pieces(mesh, o.min_piece);
     r.extract = seconds_since(extract_start);

@@ -1,4 +1,4 @@
-// lasmesh as one library call: a LAS point cloud in, a closed, coloured triangle mesh out.
+// lasmesh as one library call: a LAS point cloud in, a coloured triangle mesh out.
 //
 //     lasmesh::BuildOptions options;
 //     options.grid.dims = {512, 0, 0};                        // 512 cells along the longest axis
@@ -7,8 +7,10 @@
 //
 // The stages, in order, each in its own folder of src/ and include/lasmesh/:
 //   read     the input stream (file, pipe, gzip/bzip2/xz/zstd), the LAS header, the records
-//   grid     the points counted into cubic cells on an OpenCL device, with their mean colours
-//   mesh     the iso-surface by marching cubes, then small isolated pieces removed
+//   grid     the points counted into a sparse grid of cubic cells on an OpenCL device: per cell
+//            the count and the sums of colours and positions
+//   mesh     one sheet through the points of each surface (or a closed surface), then small
+//            isolated pieces removed
 //   io       each requested output written (PLY, Draco, glTF) through a temporary file
 // Every failure is an Error with its kind (see error.hpp); nothing is written to a stream:
 // progress and details go to the BuildObserver, numbers to the RunReport.
@@ -19,6 +21,7 @@
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
+#include "lasmesh/mesh/surface_sheet.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -48,7 +51,8 @@ struct BuildOptions {
     std::optional<Bounds> bounds;      // the region to grid; default: the header bounds
     bool scan_bounds = false;          // read a file twice, first for its points' real bounds
     std::optional<double> iso;         // points per cell at the surface; default: automatic_iso
-    VertexPlacement placement = VertexPlacement::surface;
+    SurfaceKind surface = SurfaceKind::sheet;
+    VertexPlacement placement = VertexPlacement::surface; // closed surfaces only
     MinPiece min_piece;                // default: 5% of the mesh diagonal
     std::string device = "auto";       // "auto" (a GPU if any), an index or part of a name
     int threads = 0;                   // extraction threads; 0: all cores
@@ -71,7 +75,9 @@ struct RunReport {
     GridSpec grid;
     double iso = 0;
     bool iso_auto = false;
+    SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface;
+    std::uint64_t occupied_cells = 0, occupied_bricks = 0, pool_bytes = 0; // the sparse grid
     PieceCount pieces;
     std::size_t vertices = 0, triangles = 0;
     bool colored = false;

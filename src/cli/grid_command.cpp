@@ -25,10 +25,11 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     std::uint64_t occupied = 0, fullest = 0;
-    for (std::uint64_t c : grid.count) {
-        occupied += c > 0;
-        fullest = std::max(fullest, c);
+    for (const CellSums& c : grid.cells) {
+        occupied += c.count > 0;
+        fullest = std::max(fullest, c.count);
     }
+    const std::uint64_t pool_bytes = grid.brick_keys.size() * brick_device_bytes(grid.has_color());
     const double outside_share = grid.points_read ? double(grid.points_outside) / grid.points_read : 0.0;
     const char* depth = !grid.has_color() ? "none" : grid.color_is_16bit() ? "16-bit" : "8-bit in 16-bit fields";
     if (options.json) {
@@ -41,6 +42,9 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         json["points_outside"] = grid.points_outside;
         json["occupied_cells"] = occupied;
         json["max_points_per_cell"] = fullest;
+        json["occupied_bricks"] = grid.brick_keys.size();
+        json["brick_cells"] = DensityGrid::brick_cells;
+        json["pool_bytes"] = pool_bytes;
         json["color"] = depth;
         json["seconds"] = seconds;
         out << json_line(json) << '\n';
@@ -55,6 +59,8 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         << "points outside grid  " << grid.points_outside << " (" << std::fixed << std::setprecision(3)
         << 100 * outside_share << "%)\n"
         << "occupied cells       " << occupied << " of " << grid.spec.cell_count() << "\n"
+        << "occupied bricks      " << grid.brick_keys.size() << " of " << DensityGrid::brick_cells << " cells: "
+        << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device\n"
         << "most points in cell  " << fullest << "\n"
         << "colour               " << depth << "\n"
         << "read + accumulate    " << std::setprecision(3) << seconds << " s\n";

@@ -8,6 +8,7 @@
 #include "mesh_report.hpp"
 #include "option_parsing.hpp"
 
+#include <map>
 #include <algorithm>
 
 namespace lasmesh::cli {
@@ -20,9 +21,15 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
+    app.add_option("--surface", o.surface,
+                   "sheet: one open sheet through the points of each surface (accurate below the cell); "
+                   "closed: a watertight surface around the occupied cells (solids, 3D printing)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, SurfaceKind>{{"sheet", SurfaceKind::sheet},
+                                                                               {"closed", SurfaceKind::closed}}))
+        ->default_str("sheet");
     app.add_option("--placement", o.placement,
-                   "Vertices on the scanned surface (surface) or on the iso level set as in classic "
-                   "marching cubes (iso)")
+                   "With --surface closed: vertices on the scanned surface (surface) or on the iso level set "
+                   "as in classic marching cubes (iso)")
         ->capture_default_str();
     app.add_option("--min-piece", o.min_piece,
                    "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
@@ -66,6 +73,7 @@ BuildOptions build_options(const MeshOptions& o) {
     if (iso >= 0) b.iso = iso;
     b.min_piece = parse_min_piece(o.min_piece);
     b.placement = parse_placement(o.placement);
+    b.surface = o.surface;
     b.device = o.grid.device;
     b.threads = o.threads;
     b.scan_bounds = o.grid.scan_bounds;

@@ -47,7 +47,10 @@ void write_report_json(const RunReport& r, const std::string& path) {
     json["grid"] = {{"dims", r.grid.dims}, {"cell_size", r.grid.cell_size}, {"origin", r.grid.origin}};
     json["iso"] = r.iso;
     json["iso_auto"] = r.iso_auto;
+    json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
     json["placement"] = placement_name(r.placement);
+    json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
+                           {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}};
     json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
     json["vertices"] = r.vertices;
     json["triangles"] = r.triangles;
@@ -71,8 +74,13 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
             << format_double(s.cell_size) << "\n"
             << "iso            " << format_double(r.iso) << (r.iso_auto ? " (auto)" : "")
-            << " points per cell, vertices placed on the "
-            << (r.placement == VertexPlacement::iso ? "iso level" : "surface") << "\n"
+            << " points per cell, "
+            << (r.surface == SurfaceKind::sheet ? "one sheet through the points"
+                : r.placement == VertexPlacement::iso ? "closed, vertices on the iso level"
+                                                      : "closed, vertices on the surface")
+            << "\n"
+            << "occupied       " << r.occupied_cells << " cells in " << r.occupied_bricks << " bricks of "
+            << DensityGrid::brick_cells << ", " << format_double(r.pool_bytes / 1e6) << " MB of grid\n"
             << "origin         " << format_double(r.origin[0]) << " " << format_double(r.origin[1]) << " "
             << format_double(r.origin[2]) << " (output positions are relative to it)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("

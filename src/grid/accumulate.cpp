@@ -1,5 +1,7 @@
 // accumulate_density: streams raw records to the device in double-buffered slices and runs
-// kernels/accumulate.cl over each; the host only reads and uploads.
+// kernels/accumulate.cl over each; the host reads records straight into the device's slice
+// buffers (mapped, so a device that shares host memory copies nothing) and keeps the pool of
+// bricks large enough for every slice before the slice's points are added.
 #include "lasmesh/grid/density_grid.hpp"
 
 #include "kernel_sources.hpp"
@@ -7,7 +9,9 @@
 #include "opencl_device.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace lasmesh {
 
@@ -15,7 +19,11 @@ namespace {
 
 // Measured on PoCL (docs/benchmarks.md): 4-16 MiB slices stay in cache and beat 64 MiB ones.
 constexpr std::uint64_t default_slice_bytes = 16ull << 20;
-constexpr std::size_t slots = 2; // one slice uploading or computing while the next is read
+constexpr std::size_t slots = 2; // one slice being read while the device works on the other
+// Records one work-item sums before it flushes: long enough to merge the runs of a scan in
+// acquisition order, short enough to keep every core busy on a small slice.
+constexpr unsigned run_length = 32;
+constexpr std::uint64_t first_pool_bricks = 1024;
 
 std::string mib(std::uint64_t bytes) {
     char text[32];
@@ -27,68 +35,123 @@ std::string dims_text(const GridSpec& g) {
     return std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
 }
 
+std::uint64_t cell_words(bool color) { return color ? 8 : 4; }
+
+std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid) {
+    std::array<std::uint32_t, 3> b{};
+    for (int a = 0; a < 3; ++a)
+        b[a] = static_cast<std::uint32_t>((grid.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
+    return b;
+}
+
+std::uint64_t brick_count(const GridSpec& grid) {
+    const auto b = brick_dims(grid);
+    return std::uint64_t{b[0]} * b[1] * b[2];
+}
+
 struct Limits {
     std::uint64_t global_memory, max_alloc, max_memory;
 };
 
-// Empty when the grid fits; otherwise what it exceeds.
-std::string exceeded(const MemoryNeed& need, const Limits& limits) {
+// Empty when `need` fits; otherwise what it exceeds.
+std::string exceeded(const MemoryNeed& need, const Limits& limits, const std::string& what) {
     if (need.largest_buffer > limits.max_alloc)
-        return "the grid buffer needs " + mib(need.largest_buffer) + ", more than the device's largest allocation (" +
+        return what + " needs " + mib(need.largest_buffer) + ", more than the device's largest allocation (" +
                mib(limits.max_alloc) + ")";
     if (need.device_bytes > limits.global_memory)
         return "it needs " + mib(need.device_bytes) + " of device memory, more than the device has (" +
                mib(limits.global_memory) + ")";
     if (limits.max_memory && need.device_bytes + need.host_bytes > limits.max_memory)
-        return "it needs " + mib(need.device_bytes + need.host_bytes) + " on host and device together, more than --max-memory (" +
-               mib(limits.max_memory) + ")";
+        return "it needs " + mib(need.device_bytes + need.host_bytes) +
+               " on host and device together, more than --max-memory (" + mib(limits.max_memory) + ")";
     return {};
 }
 
-void check_memory(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid, std::uint64_t slice_bytes,
-                  const Limits& limits) {
-    const bool color = has_color(header);
-    const std::string problem = exceeded(memory_need(grid, color, slice_bytes), limits);
-    if (problem.empty()) return;
-    // The largest N along the longest axis that fits, found by bisection (memory grows with N).
-    std::uint32_t lo = 0, hi = std::max({grid.dims[0], grid.dims[1], grid.dims[2]});
+// The largest N along the longest axis for which `fits(grid)` holds (memory grows with N).
+template <class Fits>
+std::uint32_t largest_fitting_grid(const LasHeader& header, const AccumulateOptions& options, std::uint32_t upper, Fits fits) {
+    std::uint32_t lo = 0, hi = upper;
     while (lo < hi) {
         const std::uint32_t mid = lo + (hi - lo + 1) / 2;
         AccumulateOptions trial = options;
         trial.grid = GridRequest{GridRequest::Kind::longest_axis, {mid, 0, 0}, 0};
-        if (exceeded(memory_need(grid_for(header, trial), color, slice_bytes), limits).empty())
+        if (fits(grid_for(header, trial)))
             lo = mid;
         else
             hi = mid - 1;
     }
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " (" + std::to_string(grid.cell_count()) +
-                                      " cells) does not fit: " + problem +
-                                      (lo > 0 ? "; --grid " + std::to_string(lo) + " would fit" : ""));
+    return lo;
 }
 
-std::uint64_t join64(const cl_uint* pair) { return pair[0] | (std::uint64_t{pair[1]} << 32); }
+std::uint32_t longest_dim(const GridSpec& g) { return std::max({g.dims[0], g.dims[1], g.dims[2]}); }
+
+void check_index_memory(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
+                        std::uint64_t slice_bytes, const Limits& limits) {
+    const std::string problem = exceeded(memory_need(grid, slice_bytes), limits, "the brick index");
+    if (problem.empty()) return;
+    const std::uint32_t fit = largest_fitting_grid(header, options, longest_dim(grid), [&](const GridSpec& g) {
+        return exceeded(memory_need(g, slice_bytes), limits, "").empty();
+    });
+    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " (" + std::to_string(grid.cell_count()) +
+                                      " cells) does not fit: " + problem +
+                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : ""));
+}
+
+// The pool of bricks outgrew a limit after `points_read` of `points_total` points: stop, and
+// suggest a grid whose pool would fit, assuming the bricks seen so far grow in proportion to the
+// points still to come and the surface's bricks fall with the square of the grid.
+[[noreturn]] void pool_too_large(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
+                                 const std::string& problem, std::uint64_t bricks_used, std::uint64_t points_read,
+                                 std::uint64_t available_bytes) {
+    const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
+    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) / std::min(1.0, seen);
+    const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
+    const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
+    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
+                                      " of " + std::to_string(header.point_count) + " points its surface fills " +
+                                      std::to_string(bricks_used) + " bricks and " + problem +
+                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
+                                      " (nothing was written)");
+    (void)options;
+}
 
 } // namespace
 
-Rgb8 DensityGrid::mean_color(std::uint64_t cell) const {
-    const std::uint64_t n = count[cell];
+std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 8; }
+
+std::uint64_t DensityGrid::occupied_cells() const {
+    return static_cast<std::uint64_t>(std::count_if(cells.begin(), cells.end(), [](const CellSums& c) { return c.count > 0; }));
+}
+
+Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
+    const std::uint64_t n = cell.count;
     if (n == 0 || !has_color()) return {0, 0, 0};
     // Rounded integer division; 128-bit so no count or sum can overflow.
     const unsigned __int128 divisor = static_cast<unsigned __int128>(n) * (color_is_16bit() ? 257 : 1);
     auto mean = [&](std::uint64_t sum) {
         return static_cast<std::uint8_t>((2 * static_cast<unsigned __int128>(sum) + divisor) / (2 * divisor));
     };
-    return {mean(red[cell]), mean(green[cell]), mean(blue[cell])};
+    return {mean(cell.color[0]), mean(cell.color[1]), mean(cell.color[2])};
 }
 
-MemoryNeed memory_need(const GridSpec& grid, bool has_color, std::uint64_t slice_bytes) {
+Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
+    Vec3 p{};
+    for (int a = 0; a < 3; ++a) {
+        const double raw = static_cast<double>(axes[a].starts[cell[a]]) +
+                           static_cast<double>(sums.position[a]) / static_cast<double>(std::max<std::uint64_t>(1, sums.count));
+        p[a] = raw * scale[a] + offset[a] - spec.origin[a];
+    }
+    return p;
+}
+
+MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {
     MemoryNeed need;
-    const std::uint64_t grid_bytes = grid.cell_count() * 8 * (has_color ? 4 : 1);
-    need.largest_buffer = grid_bytes;
-    need.device_bytes = grid_bytes + slots * slice_bytes;
-    // The per-channel grid the device's is read back into (a 16 MiB block at a time), plus the
-    // staging slices.
-    need.host_bytes = grid_bytes + (16ull << 20) + slots * slice_bytes;
+    const std::uint64_t index_bytes = brick_count(grid) * 4;
+    need.largest_buffer = index_bytes;
+    // The index, the slices and the list of bricks new in a slice (at most one per record).
+    need.device_bytes = index_bytes + slots * slice_bytes + slice_bytes / 4;
+    // The index read back; the slices are mapped device memory.
+    need.host_bytes = index_bytes;
     return need;
 }
 
@@ -104,91 +167,167 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
 
     DensityGrid out;
     out.spec = grid_for(header, options);
+    out.color = color;
+    out.scale = header.scale;
+    out.offset = header.offset;
+    out.bricks = brick_dims(out.spec);
     const std::uint64_t max_alloc = options.max_alloc ? std::min(options.max_alloc, dev.info.max_alloc) : dev.info.max_alloc;
     const std::uint64_t slice_limit = std::min(options.slice_bytes ? options.slice_bytes : default_slice_bytes, max_alloc);
     // No larger than the records still to come: a small file needs no 16 MiB slices.
     const std::size_t slice_records = static_cast<std::size_t>(
         std::clamp<std::uint64_t>(std::min<std::uint64_t>(slice_limit / length, reader.records_left()), 1, 1u << 30));
     const std::size_t slice_bytes = slice_records * length;
-    check_memory(header, options, out.spec, slice_bytes, {dev.info.global_memory, max_alloc, options.max_memory});
+    const Limits limits{dev.info.global_memory, max_alloc, options.max_memory};
+    check_index_memory(header, options, out.spec, slice_bytes, limits);
+    for (int a = 0; a < 3; ++a) out.axes[a] = axis_cells(out.spec, a, header.scale[a], header.offset[a]);
 
-    const std::uint64_t cells = out.spec.cell_count();
-    std::array<AxisCells, 3> axes;
-    for (int a = 0; a < 3; ++a) axes[a] = axis_cells(out.spec, a, header.scale[a], header.offset[a]);
+    const std::uint64_t bricks = brick_count(out.spec);
+    const std::uint64_t brick_bytes = brick_device_bytes(color);
+    const MemoryNeed fixed = memory_need(out.spec, slice_bytes);
+    std::vector<std::uint32_t> slot_of_brick;
+    std::vector<std::byte> pool_copy_block;
+    std::uint64_t used = 0;
+    cl::Buffer pool;
 
     try {
         cl::Context& ctx = dev.context;
         cl::CommandQueue& queue = dev.queue;
-        std::string defines = color ? "-D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format)) : "";
+        std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length);
+        if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
-        cl::Kernel kernel(program, "accumulate");
+        cl::Kernel mark(program, "mark_bricks"), assign(program, "assign_bricks"), add(program, "accumulate");
 
-        // The grid: per cell 64-bit counters (count, then red, green, blue sums when there is
-        // colour), each as low and high 32-bit words, zeroed on the device.
-        const std::uint64_t counters = color ? 4 : 1;
-        const std::uint64_t grid_bytes = cells * counters * 8;
-        cl::Buffer grid(ctx, CL_MEM_READ_WRITE, grid_bytes);
-        queue.enqueueFillBuffer(grid, cl_uint{0}, 0, grid_bytes);
+        cl::Buffer index(ctx, CL_MEM_READ_WRITE, bricks * 4);
+        queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
+        cl::Buffer new_bricks(ctx, CL_MEM_READ_WRITE, slice_records * 4);
+        cl::Buffer new_count(ctx, CL_MEM_READ_WRITE, 4);
+        queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, 4);
         cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
         queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
+        std::uint64_t capacity = std::min<std::uint64_t>(first_pool_bricks, std::max<std::uint64_t>(1, bricks));
+        pool = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity * brick_bytes);
+        queue.enqueueFillBuffer(pool, cl_ulong{0}, 0, capacity * brick_bytes);
 
-        kernel.setArg(2, static_cast<cl_uint>(length));
+        // Arguments 3-13 (the grid) are the same for mark_bricks and accumulate.
         std::array<cl::Buffer, 3> starts_buffers; // kernel arguments do not keep buffers alive
         for (int a = 0; a < 3; ++a) {
-            std::vector<cl_long> starts(axes[a].starts.begin(), axes[a].starts.end());
+            std::vector<cl_long> starts(out.axes[a].starts.begin(), out.axes[a].starts.end());
             starts_buffers[a] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, starts.size() * sizeof(cl_long),
                                            starts.data());
-            kernel.setArg(3 + a, starts_buffers[a]);
-            kernel.setArg(6 + a, static_cast<cl_int>(axes[a].count()));
             const double raw_span = static_cast<double>(starts.back() - starts.front());
-            kernel.setArg(9 + a, static_cast<cl_float>(raw_span > 0 ? axes[a].count() / raw_span : 0.0));
+            for (cl::Kernel* k : {&mark, &add}) {
+                k->setArg(2, static_cast<cl_uint>(length));
+                k->setArg(3 + a, starts_buffers[a]);
+                k->setArg(6 + a, static_cast<cl_int>(out.axes[a].count()));
+                k->setArg(9 + a, static_cast<cl_float>(raw_span > 0 ? out.axes[a].count() / raw_span : 0.0));
+            }
         }
-        kernel.setArg(12, grid);
-        kernel.setArg(13, stats);
+        for (cl::Kernel* k : {&mark, &add}) {
+            k->setArg(12, static_cast<cl_uint>(out.bricks[0]));
+            k->setArg(13, static_cast<cl_uint>(out.bricks[1]));
+            k->setArg(14, index);
+        }
+        mark.setArg(15, new_bricks);
+        mark.setArg(16, new_count);
+        assign.setArg(0, new_bricks);
+        assign.setArg(3, index);
+        add.setArg(16, stats);
 
-        // Double buffering: while the device works on slice k, the host reads slice k + 1. A
-        // staging buffer is refilled only after its upload has completed.
-        std::array<std::vector<std::byte>, slots> staging;
+        // Double buffering: the host reads slice k + 1 into one mapped buffer while the device
+        // adds slice k from the other; a buffer is mapped again only after its kernels ended.
         std::array<cl::Buffer, slots> uploads;
-        std::array<cl::Event, slots> uploaded;
-        for (std::size_t s = 0; s < slots; ++s) {
-            staging[s].resize(slice_bytes);
-            uploads[s] = cl::Buffer(ctx, CL_MEM_READ_ONLY, slice_bytes);
-        }
+        std::array<cl::Event, slots> done;
+        for (std::size_t s = 0; s < slots; ++s)
+            uploads[s] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
         for (std::uint64_t k = 0;; ++k) {
             const std::size_t s = k % slots;
-            if (uploaded[s]()) uploaded[s].wait();
-            const std::size_t n = reader.read_records(staging[s]);
+            if (done[s]()) done[s].wait();
+            auto* mapped = static_cast<std::byte*>(queue.enqueueMapBuffer(uploads[s], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, slice_bytes));
+            std::size_t n = 0;
+            try {
+                n = reader.read_records({mapped, slice_bytes});
+            } catch (...) {
+                queue.enqueueUnmapMemObject(uploads[s], mapped);
+                queue.finish();
+                throw;
+            }
+            queue.enqueueUnmapMemObject(uploads[s], mapped);
             if (n == 0) break;
             out.points_read += n;
             if (options.on_slice) options.on_slice(out.points_read);
-            queue.enqueueWriteBuffer(uploads[s], CL_FALSE, 0, n * length, staging[s].data(), nullptr, &uploaded[s]);
-            kernel.setArg(0, uploads[s]);
-            kernel.setArg(1, static_cast<cl_uint>(n));
-            const std::size_t global = (n + 255) / 256 * 256;
-            queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NullRange);
+            const std::size_t global_points = (n + 255) / 256 * 256;
+            mark.setArg(0, uploads[s]);
+            mark.setArg(1, static_cast<cl_uint>(n));
+            queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange(global_points), cl::NullRange);
+            cl_uint fresh = 0;
+            queue.enqueueReadBuffer(new_count, CL_TRUE, 0, 4, &fresh);
+            if (used + fresh > capacity) {
+                // Grow the pool: a new buffer, the bricks so far copied over, the rest zero.
+                std::uint64_t grown = std::max(capacity * 2, used + fresh);
+                grown = std::min(grown, std::max(used + fresh, max_alloc / brick_bytes));
+                const MemoryNeed need{fixed.device_bytes + (capacity + grown) * brick_bytes,
+                                      fixed.host_bytes + (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums),
+                                      grown * brick_bytes};
+                const std::string problem = exceeded(need, limits, "the pool of bricks");
+                if (!problem.empty()) {
+                    queue.finish();
+                    const std::uint64_t available =
+                        std::min({max_alloc, limits.global_memory, limits.max_memory ? limits.max_memory : UINT64_MAX});
+                    pool_too_large(header, options, out.spec, problem, used + fresh, out.points_read, available);
+                }
+                cl::Buffer bigger(ctx, CL_MEM_READ_WRITE, grown * brick_bytes);
+                if (used > 0) queue.enqueueCopyBuffer(pool, bigger, 0, 0, used * brick_bytes);
+                queue.enqueueFillBuffer(bigger, cl_ulong{0}, used * brick_bytes, (grown - used) * brick_bytes);
+                pool = bigger;
+                capacity = grown;
+            }
+            if (fresh > 0) {
+                assign.setArg(1, fresh);
+                assign.setArg(2, static_cast<cl_uint>(used));
+                queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), cl::NullRange);
+                queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, 4);
+                used += fresh;
+            }
+            add.setArg(0, uploads[s]);
+            add.setArg(1, static_cast<cl_uint>(n));
+            add.setArg(15, pool);
+            const std::size_t items = (n + run_length - 1) / run_length;
+            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange, nullptr, &done[s]);
             queue.flush();
         }
 
         cl_uint stat_words[4] = {};
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
-        out.points_outside = join64(stat_words);
+        out.points_outside = stat_words[0] | (std::uint64_t{stat_words[1]} << 32);
         out.color_max_word = stat_words[2];
-        // Read back in blocks and split the interleaved counters as they come, so the host never
-        // holds a second whole copy of the grid (with PoCL the device buffer is host memory too).
-        out.count.resize(cells);
-        if (color) out.red.resize(cells), out.green.resize(cells), out.blue.resize(cells);
-        const std::uint64_t block_cells = std::max<std::uint64_t>(1, (16ull << 20) / (counters * 8));
-        std::vector<std::uint64_t> block(block_cells * counters);
-        for (std::uint64_t first = 0; first < cells; first += block_cells) {
-            const std::uint64_t n = std::min(block_cells, cells - first);
-            queue.enqueueReadBuffer(grid, CL_TRUE, first * counters * 8, n * counters * 8, block.data());
-            for (std::uint64_t c = 0; c < n; ++c) {
-                out.count[first + c] = block[c * counters];
-                if (!color) continue;
-                out.red[first + c] = block[c * 4 + 1];
-                out.green[first + c] = block[c * 4 + 2];
-                out.blue[first + c] = block[c * 4 + 3];
+
+        // The bricks in ascending order of position, whatever order the device met them in.
+        out.brick_index.resize(bricks);
+        queue.enqueueReadBuffer(index, CL_TRUE, 0, bricks * 4, out.brick_index.data());
+        std::vector<std::uint64_t> position_of_slot(used);
+        for (std::uint64_t b = 0; b < bricks; ++b) {
+            std::uint32_t& at = out.brick_index[b];
+            if (at == 0) continue;
+            position_of_slot[at - 1] = out.brick_keys.size();
+            out.brick_keys.push_back(b);
+            at = static_cast<std::uint32_t>(out.brick_keys.size());
+        }
+        // Read the pool back in blocks, each brick straight to its place.
+        out.cells.resize(used * DensityGrid::brick_cells);
+        const std::uint64_t words = cell_words(color);
+        const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes);
+        std::vector<cl_ulong> block(block_bricks * DensityGrid::brick_cells * words);
+        for (std::uint64_t first = 0; first < used; first += block_bricks) {
+            const std::uint64_t n = std::min(block_bricks, used - first);
+            queue.enqueueReadBuffer(pool, CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
+            for (std::uint64_t s = 0; s < n; ++s) {
+                CellSums* dst = &out.cells[position_of_slot[first + s] * DensityGrid::brick_cells];
+                const cl_ulong* src = &block[s * DensityGrid::brick_cells * words];
+                for (std::int64_t c = 0; c < DensityGrid::brick_cells; ++c, src += words) {
+                    dst[c].count = src[0];
+                    dst[c].position = {src[1], src[2], src[3]};
+                    if (color) dst[c].color = {src[4], src[5], src[6]};
+                }
             }
         }
     } catch (const cl::Error& e) {

@@ -1,0 +1,36 @@
+// Extraction of one sheet per scanned surface, placed where the points are, from the grid's
+// per-cell point moments (no point is kept after accumulation).
+#pragma once
+
+#include "lasmesh/grid/density_grid.hpp"
+#include "lasmesh/mesh.hpp"
+
+namespace lasmesh {
+
+// What extraction makes of the grid.
+enum class SurfaceKind {
+    sheet,  // one open sheet through the points of each surface (extract_sheet): the default
+    closed, // a watertight surface around the occupied cells (extract_isosurface), for solids
+};
+
+// The surface the points define, after Hoppe et al. 1992 ("Surface reconstruction from
+// unorganized points"), with the grid's cells standing in for the points' neighbourhoods:
+//  1. every cell with more than `iso` points is a surface cell, with a tangent plane through its
+//     points' centroid (exact, from the position sums) and a normal from the principal axes of
+//     the centroids of the surface cells around it (3 x 3 x 3);
+//  2. the normals are oriented consistently by growing a maximum spanning tree over neighbouring
+//     cells, weighted by how parallel their planes are, and linking only cells that lie along each
+//     other's plane (so the two faces of a wall thicker than a cell keep opposite normals); each
+//     connected piece is then turned to face mostly up;
+//  3. a signed distance is sampled at the cell corners next to surface cells: the distance to the
+//     plane of the nearest centroid among the corner's eight cells;
+//  4. marching cubes over the corner samples, rejecting crossings between planes that are not the
+//     same surface (opposite normals, or more than two cells apart), so junctions and the ends of thin parts
+//     leave boundaries rather than stray sheets.
+// A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its
+// points instead of two sheets around it. The sheets are open where the surface ends; their
+// triangles face along the oriented normals; vertex normals are the planes' normals and vertex
+// colours the cells' mean colours, both interpolated along the edge.
+Mesh extract_sheet(const DensityGrid& grid, double iso);
+
+} // namespace lasmesh

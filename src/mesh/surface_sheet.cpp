@@ -1,0 +1,248 @@
+// extract_sheet: tangent planes from the cells' moments, oriented by a spanning tree, sampled as a
+// signed distance at the cell corners and contoured by sparse marching cubes.
+#include "lasmesh/mesh/surface_sheet.hpp"
+
+#include "sparse_marching_cubes.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lasmesh {
+
+namespace {
+
+using Vec = std::array<double, 3>;
+constexpr std::uint32_t no_plane = UINT32_MAX;
+
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The normal of the plane that fits a covariance best: the unit eigenvector of its smallest
+// eigenvalue, by cyclic Jacobi rotations (deterministic, and accurate for the nearly flat
+// covariances of surfaces).
+Vec plane_normal(std::array<std::array<double, 3>, 3> a) {
+    std::array<std::array<double, 3>, 3> v{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    for (int sweep = 0; sweep < 16; ++sweep) {
+        const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        const double scale = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (off <= 1e-24 * scale || off == 0) break;
+        for (int p = 0; p < 2; ++p)
+            for (int q = p + 1; q < 3; ++q) {
+                if (a[p][q] == 0) continue;
+                const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+                const double t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+                const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+                for (int k = 0; k < 3; ++k) { // a = J^T a J, v = v J
+                    const double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+    int m = 0;
+    for (int i = 1; i < 3; ++i)
+        if (a[i][i] < a[m][m]) m = i;
+    const Vec n{v[0][m], v[1][m], v[2][m]};
+    const double length = std::sqrt(dot(n, n));
+    return length > 0 ? Vec{n[0] / length, n[1] / length, n[2] / length} : Vec{0, 0, 1};
+}
+
+// The surface cells and their tangent planes.
+struct Planes {
+    const DensityGrid& grid;
+    std::vector<std::uint32_t> of_record; // per grid.cells record: its plane, or no_plane
+    std::vector<std::array<std::int64_t, 3>> cell;
+    std::vector<Vec> centroid; // relative to the grid origin
+    std::vector<Vec> normal;
+    std::vector<std::uint64_t> count;
+
+    Planes(const DensityGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
+        for (std::uint64_t r = 0; r < g.cells.size(); ++r) {
+            if (!(static_cast<double>(g.cells[r].count) > iso)) continue;
+            of_record[r] = static_cast<std::uint32_t>(cell.size());
+            cell.push_back(g.cell_of_record(r));
+            centroid.push_back(g.centroid(cell.back(), g.cells[r]));
+            count.push_back(g.cells[r].count);
+        }
+        normal.resize(cell.size());
+    }
+    std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+        const CellSums* c = grid.find(x, y, z);
+        return c ? of_record[static_cast<std::uint64_t>(c - grid.cells.data())] : no_plane;
+    }
+    template <class Visit>
+    void for_each_neighbour(std::uint32_t p, Visit visit) const {
+        const auto& c = cell[p];
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    if (dx == 0 && dy == 0 && dz == 0) continue;
+                    const std::uint32_t q = at(c[0] + dx, c[1] + dy, c[2] + dz);
+                    if (q != no_plane) visit(q);
+                }
+    }
+};
+
+// Step 1: each plane's normal from the count-weighted centroids of its 3 x 3 x 3 surface cells.
+void estimate_normals(Planes& planes) {
+    tbb::parallel_for(std::size_t{0}, planes.cell.size(), [&](std::size_t p) {
+        double total = 0;
+        Vec mean{};
+        std::array<std::array<double, 3>, 3> cov{};
+        auto add = [&](std::uint32_t q, bool second_pass) {
+            const double w = static_cast<double>(planes.count[q]);
+            const Vec& c = planes.centroid[q];
+            if (!second_pass) {
+                total += w;
+                for (int i = 0; i < 3; ++i) mean[i] += w * c[i];
+                return;
+            }
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) cov[i][j] += w * (c[i] - mean[i]) * (c[j] - mean[j]);
+        };
+        const auto self = static_cast<std::uint32_t>(p);
+        add(self, false);
+        planes.for_each_neighbour(self, [&](std::uint32_t q) { add(q, false); });
+        for (double& m : mean) m /= total;
+        add(self, true);
+        planes.for_each_neighbour(self, [&](std::uint32_t q) { add(q, true); });
+        planes.normal[p] = plane_normal(cov);
+    });
+}
+
+// Whether q lies along p's plane rather than across it: the step between their centroids makes
+// an angle under 30 degrees with the plane. Cells across a wall (the wall's other face) do not.
+bool along_plane(const Planes& planes, std::uint32_t p, std::uint32_t q) {
+    const Vec& a = planes.centroid[p];
+    const Vec& b = planes.centroid[q];
+    const Vec step{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double across = std::abs(dot(planes.normal[p], step));
+    return across <= 0.5 * std::sqrt(dot(step, step));
+}
+
+// Step 2: consistent orientation by a maximum spanning tree (Prim, bucketed weights |n_p . n_q|),
+// grown from the first plane of each connected piece; then each piece faces mostly up.
+void orient_normals(Planes& planes) {
+    const std::size_t n = planes.cell.size();
+    constexpr int levels = 16;
+    std::vector<std::int8_t> best(n, -1);
+    std::vector<std::uint32_t> parent(n, no_plane);
+    std::vector<bool> done(n, false);
+    std::array<std::vector<std::uint32_t>, levels + 1> buckets;
+    std::vector<std::uint32_t> piece;
+    for (std::uint32_t seed = 0; seed < n; ++seed) {
+        if (done[seed]) continue;
+        piece.clear();
+        parent[seed] = seed;
+        buckets[levels].push_back(seed);
+        for (int level = levels; level >= 0;) {
+            if (buckets[level].empty()) {
+                --level;
+                continue;
+            }
+            const std::uint32_t p = buckets[level].back();
+            buckets[level].pop_back();
+            if (done[p]) continue;
+            done[p] = true;
+            piece.push_back(p);
+            Vec& np = planes.normal[p];
+            if (parent[p] != p && dot(np, planes.normal[parent[p]]) < 0) np = {-np[0], -np[1], -np[2]};
+            planes.for_each_neighbour(p, [&](std::uint32_t q) {
+                if (done[q] || !along_plane(planes, p, q) || !along_plane(planes, q, p)) return;
+                const auto w = static_cast<std::int8_t>(std::lround(std::abs(dot(np, planes.normal[q])) * levels));
+                if (w <= best[q]) return;
+                best[q] = w;
+                parent[q] = p;
+                buckets[w].push_back(q);
+                level = std::max<int>(level, w);
+            });
+        }
+        double up = 0;
+        for (std::uint32_t p : piece) up += static_cast<double>(planes.count[p]) * planes.normal[p][2];
+        if (up < 0)
+            for (std::uint32_t p : piece) planes.normal[p] = {-planes.normal[p][0], -planes.normal[p][1], -planes.normal[p][2]};
+    }
+}
+
+// Steps 3 and 4: the signed distance at the cell corners, as a field for sparse marching cubes.
+// Lattice point (x, y, z) is the corner at (x, y, z) cells from the grid origin.
+struct SheetField {
+    const Planes& planes;
+    std::array<std::int64_t, 3> points;
+    double h;
+
+    detail::FieldSample sample(std::int64_t x, std::int64_t y, std::int64_t z) const {
+        if (x < 0 || y < 0 || z < 0 || x >= points[0] || y >= points[1] || z >= points[2]) return {};
+        const Vec corner{static_cast<double>(x) * h, static_cast<double>(y) * h, static_cast<double>(z) * h};
+        std::uint32_t nearest = no_plane;
+        double nearest_distance = 0;
+        for (int c = 0; c < 8; ++c) { // the eight cells around the corner, in a fixed order
+            const std::uint32_t p = planes.at(x - 1 + (c & 1), y - 1 + ((c >> 1) & 1), z - 1 + ((c >> 2) & 1));
+            if (p == no_plane) continue;
+            const Vec& m = planes.centroid[p];
+            const Vec d{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]};
+            if (nearest == no_plane || dot(d, d) < nearest_distance) nearest = p, nearest_distance = dot(d, d);
+        }
+        if (nearest == no_plane) return {};
+        const Vec& m = planes.centroid[nearest];
+        const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
+        return {static_cast<float>(f), nearest, true, f < 0};
+    }
+    // Two planes are the same surface when their normals point to the same side and each
+    // centroid lies within two cells of the other's plane (measured on the deck: stricter
+    // rules tear more holes than they avoid stray triangles).
+    bool accepts(const detail::FieldSample& a, const detail::FieldSample& b) const {
+        if (a.source == b.source) return true;
+        const Vec& na = planes.normal[a.source];
+        const Vec& nb = planes.normal[b.source];
+        if (dot(na, nb) <= 0) return false;
+        const Vec& pa = planes.centroid[a.source];
+        const Vec& pb = planes.centroid[b.source];
+        const Vec d{pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+        return std::abs(dot(na, d)) <= 2 * h && std::abs(dot(nb, d)) <= 2 * h;
+    }
+    void vertex(const std::array<std::int64_t, 3>& p, int axis, const detail::FieldSample& a,
+                const detail::FieldSample& b, detail::VertexOut& out) const {
+        // Linear interpolation puts the vertex on the plane when both corners share it; kept a
+        // hundredth of the edge from either corner so that no triangle collapses.
+        const double t = std::clamp(static_cast<double>(a.value) / (static_cast<double>(a.value) - b.value), 0.01, 0.99);
+        for (int c = 0; c < 3; ++c) out.position[c] = static_cast<float>((static_cast<double>(p[c]) + (c == axis ? t : 0.0)) * h);
+        const Vec& na = planes.normal[a.source];
+        const Vec& nb = planes.normal[b.source];
+        Vec n{(1 - t) * na[0] + t * nb[0], (1 - t) * na[1] + t * nb[1], (1 - t) * na[2] + t * nb[2]};
+        const double length = std::sqrt(dot(n, n));
+        for (int c = 0; c < 3; ++c) out.normal[c] = static_cast<float>(length > 0 ? n[c] / length : na[c]);
+        if (planes.grid.has_color()) {
+            const auto& g = planes.grid;
+            const Rgb8 ca = g.mean_color(*g.find(planes.cell[a.source][0], planes.cell[a.source][1], planes.cell[a.source][2]));
+            const Rgb8 cb = g.mean_color(*g.find(planes.cell[b.source][0], planes.cell[b.source][1], planes.cell[b.source][2]));
+            for (int c = 0; c < 3; ++c) out.color[c] = static_cast<std::uint8_t>(std::lround((1 - t) * ca[c] + t * cb[c]));
+        }
+    }
+};
+
+} // namespace
+
+Mesh extract_sheet(const DensityGrid& grid, double iso) {
+    Planes planes(grid, iso);
+    estimate_normals(planes);
+    orient_normals(planes);
+    const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
+    Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points), grid.has_color());
+    mesh.origin = grid.spec.origin;
+    mesh.cell_size = grid.spec.cell_size;
+    return mesh;
+}
+
+} // namespace lasmesh
