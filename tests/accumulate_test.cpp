@@ -17,29 +17,21 @@ using test::Bytes;
 
 namespace {
 
-ComputeDevice& device() {
-    static ComputeDevice shared("auto"); // one context for the whole test run
-    return shared;
+using test::dense;
+
+// Every cell's exact sums, positions included, are the same in both grids.
+bool sums_equal(const DensityGrid& a, const DensityGrid& b) {
+    if (a.brick_keys != b.brick_keys || a.cells.size() != b.cells.size()) return false;
+    for (std::size_t c = 0; c < a.cells.size(); ++c)
+        if (a.cells[c].count != b.cells[c].count || a.cells[c].position != b.cells[c].position ||
+            a.cells[c].color != b.cells[c].color)
+            return false;
+    return true;
 }
 
-// A LAS 1.2 format-3 file (format 1 without colour) holding exactly `points`.
-Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const Vec3& min, const Vec3& max,
-                      int color_bits = 8, int format = 3, double scale = 0.01) {
-    lasgen::LasLayout layout;
-    layout.point_format = format;
-    layout.color_bits = color_bits;
-    layout.scale = {scale, scale, scale};
-    Bytes file = lasgen::las_file_head(layout, points.size(), min, max, "fixture");
-    const std::size_t head = file.size(), length = lasgen::record_length(layout);
-    file.resize(head + points.size() * length);
-    for (std::size_t i = 0; i < points.size(); ++i) lasgen::encode_record(layout, points[i], i, file.data() + head + i * length);
-    return file;
-}
-
-DensityGrid accumulate_file(const std::string& path, AccumulateOptions options = {}) {
-    LasReader reader(path);
-    return accumulate_density(reader, device(), options);
-}
+using test::accumulate_file;
+using test::device;
+using test::las_with_points;
 
 AccumulateOptions grid_of(const std::string& text) {
     AccumulateOptions o;
@@ -90,10 +82,11 @@ Reference reference_grid(const std::string& path, const GridSpec& g) {
     return ref;
 }
 
-void check_equal(const DensityGrid& got, const Reference& ref) {
-    CHECK(got.points_outside == ref.outside);
+void check_equal(const DensityGrid& sparse, const Reference& ref) {
+    const test::DenseGrid got = test::dense(sparse);
+    CHECK(sparse.points_outside == ref.outside);
     CHECK(got.count == ref.count);
-    if (got.has_color()) {
+    if (sparse.has_color()) {
         CHECK(got.red == ref.red);
         CHECK(got.green == ref.green);
         CHECK(got.blue == ref.blue);
@@ -119,11 +112,12 @@ TEST_CASE("points at known positions: cell faces, the upper bound, and outside")
         at(-0.01, 1, 1),               // just below: outside
     };
     test::write_file(dir.file("known.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
-    const DensityGrid g = accumulate_file(dir.file("known.las"), grid_of("4"));
-    CHECK(g.spec.dims == std::array<std::uint32_t, 3>{4, 2, 2});
-    CHECK(g.spec.cell_size == 1.0);
-    CHECK(g.points_read == 7);
-    CHECK(g.points_outside == 2);
+    const DensityGrid sparse = accumulate_file(dir.file("known.las"), grid_of("4"));
+    const test::DenseGrid g = test::dense(sparse);
+    CHECK(sparse.spec.dims == std::array<std::uint32_t, 3>{4, 2, 2});
+    CHECK(sparse.spec.cell_size == 1.0);
+    CHECK(sparse.points_read == 7);
+    CHECK(sparse.points_outside == 2);
     auto cell = [&](int i, int j, int k) { return std::uint64_t((k * 2 + j) * 4 + i); };
     CHECK(g.count[cell(0, 0, 0)] == 1);
     CHECK(g.count[cell(1, 0, 0)] == 1);
@@ -132,7 +126,7 @@ TEST_CASE("points at known positions: cell faces, the upper bound, and outside")
     std::uint64_t total = 0;
     for (std::uint64_t c : g.count) total += c;
     CHECK(total == 5);
-    CHECK(!g.color_is_16bit());
+    CHECK(!sparse.color_is_16bit());
     CHECK(g.mean_color(cell(1, 0, 0)) == Rgb8{0, 255, 0});
     CHECK(g.mean_color(cell(3, 1, 1)) == Rgb8{150, 150, 150});
     CHECK(g.red[cell(3, 1, 1)] == 300);
@@ -163,16 +157,19 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
         AccumulateOptions sliced = options;
         sliced.slice_bytes = slice * record;
         const DensityGrid g = accumulate_file(dir.file("deck.las"), sliced);
-        CHECK(g.count == whole.count);
-        CHECK(g.red == whole.red);
-        CHECK(g.blue == whole.blue);
+        CHECK(g.brick_keys == whole.brick_keys); // the same layout, whatever order bricks were met in
+        CHECK(dense(g).count == dense(whole).count);
+        CHECK(dense(g).red == dense(whole).red);
+        CHECK(dense(g).blue == dense(whole).blue);
+        CHECK(sums_equal(g, whole));
     }
     AccumulateOptions small_alloc = options; // a device whose largest allocation is tiny
-    small_alloc.max_alloc = whole.spec.cell_count() * 32; // just the grid: slices must shrink to fit
+    small_alloc.max_alloc = whole.brick_keys.size() * brick_device_bytes(true) + 4096; // just the pool: slices must shrink
     small_alloc.slice_bytes = 1 << 30;
     const DensityGrid g = accumulate_file(dir.file("deck.las"), small_alloc);
-    CHECK(g.count == whole.count);
-    CHECK(g.green == whole.green);
+    CHECK(dense(g).count == dense(whole).count);
+    CHECK(dense(g).green == dense(whole).green);
+    CHECK(sums_equal(g, whole));
 }
 
 TEST_CASE("8-bit colour in 16-bit fields and true 16-bit colour give the same mean colours") {
@@ -183,11 +180,12 @@ TEST_CASE("8-bit colour in 16-bit fields and true 16-bit colour give the same me
                             {std::uint8_t(i % 256), std::uint8_t(255 - i % 256), std::uint8_t(i * 7 % 256)}));
     test::write_file(dir.file("c8.las"), las_with_points(points, {0, 0, 0}, {10, 10, 10}, 8));
     test::write_file(dir.file("c16.las"), las_with_points(points, {0, 0, 0}, {10, 10, 10}, 16));
-    const DensityGrid g8 = accumulate_file(dir.file("c8.las"), grid_of("10"));
-    const DensityGrid g16 = accumulate_file(dir.file("c16.las"), grid_of("10"));
-    CHECK(!g8.color_is_16bit());
-    CHECK(g16.color_is_16bit());
-    for (std::uint64_t c = 0; c < g8.spec.cell_count(); ++c) {
+    const DensityGrid s8 = accumulate_file(dir.file("c8.las"), grid_of("10"));
+    const DensityGrid s16 = accumulate_file(dir.file("c16.las"), grid_of("10"));
+    CHECK(!s8.color_is_16bit());
+    CHECK(s16.color_is_16bit());
+    const test::DenseGrid g8 = test::dense(s8), g16 = test::dense(s16);
+    for (std::uint64_t c = 0; c < s8.spec.cell_count(); ++c) {
         REQUIRE(g8.count[c] == 1);
         REQUIRE(g8.mean_color(c) == points[c].color); // one point per cell, in cell order
         REQUIRE(g16.mean_color(c) == points[c].color);
@@ -199,7 +197,7 @@ TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell
     // 70,000 x 65535 = 4,587,450,000 > 2^32: the colour sums must carry into the high word.
     std::vector<lasgen::GeneratedPoint> points(70000, at(0.5, 0.5, 0.5, {255, 255, 255}));
     test::write_file(dir.file("white.las"), las_with_points(points, {0, 0, 0}, {1, 1, 1}, 16));
-    const DensityGrid g = accumulate_file(dir.file("white.las"), grid_of("1"));
+    const test::DenseGrid g = test::dense(accumulate_file(dir.file("white.las"), grid_of("1")));
     REQUIRE(g.count.size() == 1);
     CHECK(g.count[0] == 70000);
     CHECK(g.red[0] == 70000ull * 65535);
@@ -212,7 +210,7 @@ TEST_CASE("degenerate extents still give a valid grid") {
         test::write_file(dir.file("one.las"), las_with_points({at(5, 5, 5)}, {5, 5, 5}, {5, 5, 5}));
         const DensityGrid g = accumulate_file(dir.file("one.las"), grid_of("256"));
         CHECK(g.spec.dims == std::array<std::uint32_t, 3>{1, 1, 1});
-        CHECK(g.count[0] == 1);
+        CHECK(dense(g).count[0] == 1);
         CHECK(g.points_outside == 0);
     }
     SUBCASE("a flat cloud") {
@@ -228,7 +226,8 @@ TEST_CASE("degenerate extents still give a valid grid") {
         test::write_file(dir.file("none.las"), las_with_points({}, {0, 0, 0}, {0, 0, 0}));
         const DensityGrid g = accumulate_file(dir.file("none.las"), grid_of("8"));
         CHECK(g.points_read == 0);
-        CHECK(g.count == std::vector<std::uint64_t>{0});
+        CHECK(dense(g).count == std::vector<std::uint64_t>{0});
+        CHECK(g.brick_keys.empty());
     }
 }
 
@@ -256,7 +255,9 @@ TEST_CASE("--bounds, --voxel and explicit dimensions") {
 TEST_CASE("a grid too large for memory is refused before allocating, with one that fits") {
     test::TempDir dir;
     test::write_file(dir.file("p.las"), las_with_points({at(0, 0, 0), at(10, 10, 10)}, {0, 0, 0}, {10, 10, 10}));
-    AccumulateOptions options = grid_of("400");
+    // The sparse grid's brick index is the part known before reading: 1600^3 cells need a
+    // 256 MB index at 4^3 cells a brick.
+    AccumulateOptions options = grid_of("1600");
     options.max_memory = 100ull << 20;
     try {
         accumulate_file(dir.file("p.las"), options);
@@ -264,7 +265,7 @@ TEST_CASE("a grid too large for memory is refused before allocating, with one th
     } catch (const Error& e) {
         CHECK(e.kind() == ErrorKind::usage);
         const std::string message = e.what();
-        CHECK(message.find("400x400x400") != std::string::npos);
+        CHECK(message.find("1600x1600x1600") != std::string::npos);
         CHECK(message.find("--max-memory") != std::string::npos);
         const std::size_t at = message.find("--grid ");
         REQUIRE(at != std::string::npos);
@@ -297,5 +298,67 @@ TEST_CASE("a kernel that fails to build reports the compiler's log") {
         const std::string message = e.what();
         CHECK(message.find("kernel broken.cl failed to build") != std::string::npos);
         CHECK(message.find("undefined_name") != std::string::npos); // from the build log
+    }
+}
+
+TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
+    test::TempDir dir;
+    // Three points in cell (0,0,0) and one in cell (3,1,1) of unit cells; coordinates in mm.
+    const std::vector<lasgen::GeneratedPoint> points = {at(0.1, 0.2, 0.3), at(0.2, 0.4, 0.6), at(0.3, 0.6, 0.9),
+                                                        at(3.25, 1.5, 1.75), at(4, 2, 2)};
+    test::write_file(dir.file("m.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
+    const DensityGrid g = accumulate_file(dir.file("m.las"), grid_of("4"));
+    const CellSums* first = g.find(0, 0, 0);
+    REQUIRE(first != nullptr);
+    CHECK(first->count == 3);
+    const Vec3 c = g.centroid({0, 0, 0}, *first);
+    CHECK(c[0] == doctest::Approx(0.2).epsilon(1e-9));
+    CHECK(c[1] == doctest::Approx(0.4).epsilon(1e-9));
+    CHECK(c[2] == doctest::Approx(0.6).epsilon(1e-9));
+    const CellSums* last = g.find(3, 1, 1);
+    REQUIRE(last != nullptr);
+    CHECK(last->count == 2);
+    const Vec3 m = g.centroid({3, 1, 1}, *last);
+    CHECK(m[0] == doctest::Approx(3.625));
+    CHECK(m[1] == doctest::Approx(1.75));
+    CHECK(m[2] == doctest::Approx(1.875));
+    CHECK(g.find(1, 0, 0) != nullptr);  // same brick as (0,0,0): present, empty
+    CHECK(g.find(1, 0, 0)->count == 0);
+    CHECK(g.occupied_cells() == 2);
+    CHECK(g.find(4, 0, 0) == nullptr); // outside the grid
+}
+
+TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the limit stops with advice") {
+    test::TempDir dir;
+    lasgen::SceneOptions scene;
+    scene.kind = lasgen::SceneKind::sphere;
+    scene.origin = {0, 0, 0};
+    const lasgen::Scene sphere = lasgen::make_scene(scene);
+    lasgen::LasLayout layout;
+    test::write_file(dir.file("s.las"), test::make_las(layout, sphere, 200000, 3));
+    const DensityGrid coarse = accumulate_file(dir.file("s.las"), grid_of("64"));
+    const DensityGrid fine = accumulate_file(dir.file("s.las"), grid_of("256"));
+    // A surface: 4 x 4 = 16 times the cells would be 64 times for a volume.
+    const double growth = double(fine.brick_keys.size()) / double(coarse.brick_keys.size());
+    CHECK(growth > 8);
+    CHECK(growth < 24);
+    CHECK(fine.points_read == 200000);
+
+    AccumulateOptions options = grid_of("256");
+    options.max_memory = 24ull << 20; // the index and slices fit, the pool does not
+    options.slice_bytes = 1 << 20;
+    try {
+        accumulate_file(dir.file("s.las"), options);
+        FAIL("no error");
+    } catch (const Error& e) {
+        CHECK(e.kind() == ErrorKind::usage);
+        const std::string message = e.what();
+        CAPTURE(message);
+        CHECK(message.find("bricks") != std::string::npos);
+        CHECK(message.find("of 200000 points") != std::string::npos);
+        const std::size_t at = message.find("--grid ");
+        REQUIRE(at != std::string::npos);
+        options.grid = parse_grid_request(message.substr(at + 7, message.find(' ', at + 7) - at - 7));
+        CHECK(accumulate_file(dir.file("s.las"), options).points_read == 200000);
     }
 }

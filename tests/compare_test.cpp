@@ -104,7 +104,7 @@ TEST_CASE("surface samples: on the triangles, spread by area, the same every tim
 
 TEST_CASE("PLY reader: lasmesh's own files, other writers' files, and bad ones") {
     test::TempDir dir;
-    DensityGrid g;
+    test::DenseCells g;
     g.spec.dims = {3, 3, 3};
     g.spec.origin = {500000.25, 6700000.5, 12.125};
     g.spec.cell_size = 0.5;

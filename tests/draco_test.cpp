@@ -22,7 +22,7 @@ namespace {
 // A torus (genus 1) marched on a 32^3 grid of 0.25 m cells at UTM-like coordinates, coloured
 // from its positions so that the colours vary over the whole 0-255 range.
 Mesh torus_mesh(bool color = true) {
-    DensityGrid g;
+    test::DenseCells g;
     const std::uint32_t n = 32;
     g.spec.dims = {n, n, n};
     g.spec.cell_size = 0.25;

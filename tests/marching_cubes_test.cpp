@@ -6,6 +6,8 @@
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
 
 #include <doctest/doctest.h>
+
+#include "test_support.hpp"
 #include <tbb/task_arena.h>
 
 #include <cmath>
@@ -19,7 +21,7 @@ namespace {
 
 // A grid of n^3 unit cells whose counts come from `field` at the cell centres.
 DensityGrid field_grid(std::uint32_t n, const std::function<double(double, double, double)>& field) {
-    DensityGrid g;
+    test::DenseCells g;
     g.spec.dims = {n, n, n};
     g.spec.cell_size = 1;
     g.count.resize(g.spec.cell_count());
@@ -80,7 +82,7 @@ TEST_CASE("the derived case table: every corner configuration gives a closed, or
     // the inside cells must close up, whatever the ambiguous faces.
     for (int mask = 0; mask < 256; ++mask) {
         CAPTURE(mask);
-        DensityGrid g;
+        test::DenseCells g;
         g.spec.dims = {2, 2, 2};
         g.count.resize(8);
         for (int c = 0; c < 8; ++c) g.count[c] = (mask >> c) & 1 ? 10 : 0;
@@ -184,7 +186,7 @@ TEST_CASE("surface placement puts a scanned sheet's mesh tight around it") {
     // grid of unit cells (layer centre z = 5.5). The plain level set at iso 4 wraps it at
     // z = 5.5 +- 0.89; surface placement puts both faces on the layer's cell faces, +- 0.5.
     auto sheet = [](std::uint64_t below, std::uint64_t at) {
-        DensityGrid g;
+        test::DenseCells g;
         g.spec.dims = {12, 12, 12};
         g.count.assign(g.spec.cell_count(), 0);
         for (std::uint64_t c = 0; c < 144; ++c) g.count[4 * 144 + c] = below, g.count[5 * 144 + c] = at;
@@ -214,7 +216,7 @@ TEST_CASE("surface placement puts a scanned sheet's mesh tight around it") {
 TEST_CASE("vertex colours weigh each cell's mean colour by its count") {
     // Two adjacent cells: 30 red points and 10 blue ones; the surface crosses between them and
     // the padding. A single-colour shape keeps its exact colour.
-    DensityGrid g;
+    test::DenseCells g;
     g.spec.dims = {2, 1, 1};
     g.count = {30, 10};
     g.red = {30 * 255, 0};
@@ -237,7 +239,7 @@ TEST_CASE("random inside/outside patterns: neighbouring cubes always agree") {
     std::uint64_t state = 12345;
     auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
     for (int trial = 0; trial < 20000; ++trial) {
-        DensityGrid g;
+        test::DenseCells g;
         g.spec.dims = {3, 3, 3};
         g.count.resize(27);
         for (auto& c : g.count) c = next() % 2 ? 10 : 0;

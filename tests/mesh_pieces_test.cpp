@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include "test_support.hpp"
+
 #include <cmath>
 
 using namespace lasmesh;
@@ -17,7 +19,7 @@ namespace {
 // Balls of the given centres and radii (in cells) in a 40^3 grid of unit cells.
 DensityGrid balls_grid(const std::vector<std::array<double, 4>>& balls) {
     const std::uint32_t n = 40;
-    DensityGrid g;
+    test::DenseCells g;
     g.spec.dims = {n, n, n};
     g.count.resize(g.spec.cell_count());
     for (std::uint32_t k = 0; k < n; ++k)

@@ -1,6 +1,8 @@
 // Test helpers: temp folders, file I/O and LAS fixtures from the project's own generator.
 #include "test_support.hpp"
 
+#include <doctest/doctest.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -57,6 +59,108 @@ std::filesystem::path shared_las_folder() {
                                                 : std::filesystem::path(LASMESH_SOURCE_DIR).parent_path() / "shared";
     std::filesystem::path folder = shared / "data" / "las";
     return std::filesystem::exists(folder / "MANIFEST.tsv") ? folder : std::filesystem::path();
+}
+
+} // namespace test
+
+namespace test {
+
+DenseGrid dense(const lasmesh::DensityGrid& grid) {
+    DenseGrid d;
+    d.grid = &grid;
+    const std::uint64_t cells = grid.spec.cell_count();
+    d.count.assign(cells, 0);
+    if (grid.has_color()) d.red = d.green = d.blue = d.count;
+    for (std::uint64_t r = 0; r < grid.cells.size(); ++r) {
+        const auto c = grid.cell_of_record(r);
+        if (c[0] >= grid.spec.dims[0] || c[1] >= grid.spec.dims[1] || c[2] >= grid.spec.dims[2]) {
+            REQUIRE(grid.cells[r].count == 0); // brick cells beyond the grid stay empty
+            continue;
+        }
+        const std::uint64_t index = (c[2] * grid.spec.dims[1] + c[1]) * grid.spec.dims[0] + c[0];
+        d.count[index] = grid.cells[r].count;
+        if (grid.has_color())
+            d.red[index] = grid.cells[r].color[0], d.green[index] = grid.cells[r].color[1], d.blue[index] = grid.cells[r].color[2];
+    }
+    return d;
+}
+
+lasmesh::Rgb8 DenseGrid::mean_color(std::uint64_t cell) const {
+    lasmesh::CellSums sums;
+    sums.count = count[cell];
+    if (!red.empty()) sums.color = {red[cell], green[cell], blue[cell]};
+    return grid->mean_color(sums);
+}
+
+lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
+                                      const std::vector<std::uint64_t>& red, const std::vector<std::uint64_t>& green,
+                                      const std::vector<std::uint64_t>& blue, std::uint32_t color_max_word) {
+    using lasmesh::DensityGrid;
+    DensityGrid g;
+    g.spec = spec;
+    g.color = !red.empty();
+    g.color_max_word = color_max_word;
+    // Raw units of a thousandth of a cell, so a cell's centre is 500 raw units from its start.
+    for (int a = 0; a < 3; ++a) {
+        g.scale[a] = spec.cell_size / 1000;
+        g.offset[a] = spec.origin[a];
+        g.axes[a] = lasmesh::axis_cells(spec, a, g.scale[a], g.offset[a]);
+        g.bricks[a] = static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
+    }
+    g.brick_index.assign(std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2], 0);
+    std::vector<bool> occupied(g.brick_index.size(), false);
+    auto brick_of = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+        const int b = DensityGrid::brick_bits;
+        return ((z >> b) * g.bricks[1] + (y >> b)) * g.bricks[0] + (x >> b);
+    };
+    for (std::uint64_t z = 0; z < spec.dims[2]; ++z)
+        for (std::uint64_t y = 0; y < spec.dims[1]; ++y)
+            for (std::uint64_t x = 0; x < spec.dims[0]; ++x)
+                if (count[(z * spec.dims[1] + y) * spec.dims[0] + x] > 0) occupied[brick_of(x, y, z)] = true;
+    for (std::uint64_t b = 0; b < occupied.size(); ++b)
+        if (occupied[b]) {
+            g.brick_keys.push_back(b);
+            g.brick_index[b] = static_cast<std::uint32_t>(g.brick_keys.size());
+        }
+    g.cells.resize(g.brick_keys.size() * DensityGrid::brick_cells);
+    for (std::uint64_t z = 0; z < spec.dims[2]; ++z)
+        for (std::uint64_t y = 0; y < spec.dims[1]; ++y)
+            for (std::uint64_t x = 0; x < spec.dims[0]; ++x) {
+                const std::uint64_t index = (z * spec.dims[1] + y) * spec.dims[0] + x;
+                if (count[index] == 0) continue;
+                auto* cell = const_cast<lasmesh::CellSums*>(g.find(std::int64_t(x), std::int64_t(y), std::int64_t(z)));
+                cell->count = count[index];
+                const std::uint64_t c[3] = {x, y, z};
+                for (int a = 0; a < 3; ++a) // every point at the cell's centre
+                    cell->position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[c[a] + 1] - g.axes[a].starts[c[a]]) / 2);
+                if (g.color) cell->color = {red[index], green[index], blue[index]};
+                g.points_read += count[index];
+            }
+    return g;
+}
+
+lasmesh::ComputeDevice& device() {
+    static lasmesh::ComputeDevice shared("auto"); // one context for the whole test run
+    return shared;
+}
+
+// A LAS 1.2 format-3 file (format 1 without colour) holding exactly `points`.
+Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const lasmesh::Vec3& min, const lasmesh::Vec3& max,
+                      int color_bits, int format, double scale) {
+    lasgen::LasLayout layout;
+    layout.point_format = format;
+    layout.color_bits = color_bits;
+    layout.scale = {scale, scale, scale};
+    Bytes file = lasgen::las_file_head(layout, points.size(), min, max, "fixture");
+    const std::size_t head = file.size(), length = lasgen::record_length(layout);
+    file.resize(head + points.size() * length);
+    for (std::size_t i = 0; i < points.size(); ++i) lasgen::encode_record(layout, points[i], i, file.data() + head + i * length);
+    return file;
+}
+
+lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options) {
+    lasmesh::LasReader reader(path);
+    return lasmesh::accumulate_density(reader, device(), options);
 }
 
 } // namespace test

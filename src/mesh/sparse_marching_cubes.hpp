@@ -247,19 +247,21 @@ private:
     std::vector<std::uint64_t> first_vertex_;
 };
 
-// The bricks of a lattice of `points` whose lattice points lie at an occupied cell or one step
-// beyond it (a cell's centre or its corners): the cell's own brick or the next one up.
-inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::int64_t, 3> points) {
+// The bricks of a lattice of `points` that hold every lattice point within `reach` below and
+// reach + 1 above an occupied cell's index (a lattice of cell centres, padded, has reach 0; one
+// of corners sampled a cell beyond the corners of occupied cells has reach 1).
+inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::int64_t, 3> points, int reach = 0) {
     LatticeBricks lattice(points);
     static_assert(LatticeBricks::size == DensityGrid::brick_size, "lattice and grid bricks align");
     std::vector<std::uint64_t>& active = lattice.active;
     for (std::uint64_t key : grid.brick_keys) {
         const std::int64_t bx = key % grid.bricks[0], by = key / grid.bricks[0] % grid.bricks[1],
                            bz = key / grid.bricks[0] / grid.bricks[1];
-        for (int d = 0; d < 8; ++d) {
-            const std::int64_t x = bx + (d & 1), y = by + ((d >> 1) & 1), z = bz + ((d >> 2) & 1);
-            if (x < lattice.bricks[0] && y < lattice.bricks[1] && z < lattice.bricks[2]) active.push_back(lattice.key(x, y, z));
-        }
+        for (std::int64_t z = bz - reach; z <= bz + 1; ++z)
+            for (std::int64_t y = by - reach; y <= by + 1; ++y)
+                for (std::int64_t x = bx - reach; x <= bx + 1; ++x)
+                    if (x >= 0 && y >= 0 && z >= 0 && x < lattice.bricks[0] && y < lattice.bricks[1] && z < lattice.bricks[2])
+                        active.push_back(lattice.key(x, y, z));
     }
     std::sort(active.begin(), active.end());
     active.erase(std::unique(active.begin(), active.end()), active.end());

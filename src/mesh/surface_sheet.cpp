@@ -187,13 +187,21 @@ struct SheetField {
         const Vec corner{static_cast<double>(x) * h, static_cast<double>(y) * h, static_cast<double>(z) * h};
         std::uint32_t nearest = no_plane;
         double nearest_distance = 0;
-        for (int c = 0; c < 8; ++c) { // the eight cells around the corner, in a fixed order
-            const std::uint32_t p = planes.at(x - 1 + (c & 1), y - 1 + ((c >> 1) & 1), z - 1 + ((c >> 2) & 1));
-            if (p == no_plane) continue;
+        auto consider = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+            const std::uint32_t p = planes.at(cx, cy, cz);
+            if (p == no_plane) return;
             const Vec& m = planes.centroid[p];
             const Vec d{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]};
             if (nearest == no_plane || dot(d, d) < nearest_distance) nearest = p, nearest_distance = dot(d, d);
-        }
+        };
+        // The eight cells around the corner, in a fixed order; failing those, the ring of cells
+        // around them, so that every cube next to a surface cell has all its corners: the zero
+        // set may leave a surface cell through a face into an empty one.
+        for (int c = 0; c < 8; ++c) consider(x - 1 + (c & 1), y - 1 + ((c >> 1) & 1), z - 1 + ((c >> 2) & 1));
+        if (nearest == no_plane)
+            for (std::int64_t cz = z - 2; cz <= z + 1; ++cz)
+                for (std::int64_t cy = y - 2; cy <= y + 1; ++cy)
+                    for (std::int64_t cx = x - 2; cx <= x + 1; ++cx) consider(cx, cy, cz);
         if (nearest == no_plane) return {};
         const Vec& m = planes.centroid[nearest];
         const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
@@ -239,7 +247,7 @@ Mesh extract_sheet(const DensityGrid& grid, double iso) {
     estimate_normals(planes);
     orient_normals(planes);
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
-    Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points), grid.has_color());
+    Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points, 1), grid.has_color());
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;

@@ -1,0 +1,166 @@
+// One sheet per scanned surface: placed on the points (below the cell), one sheet for a thin
+// plate scanned from both sides, closed and consistently oriented where the surface is closed,
+// and the same mesh for any number of threads.
+#include "lasmesh/mesh/surface_sheet.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
+
+#include <doctest/doctest.h>
+
+#include "test_support.hpp"
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+using namespace lasmesh;
+
+namespace {
+
+lasgen::GeneratedPoint point(double x, double y, double z) {
+    lasgen::GeneratedPoint p;
+    p.position = {x, y, z};
+    p.color = {90, 140, 200};
+    return p;
+}
+
+struct EdgeUse {
+    int forward = 0, backward = 0;
+};
+
+// Every edge's uses: a closed oriented surface uses each edge once in each direction; an open
+// sheet also has boundary edges used once.
+std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeUse> edge_uses(const Mesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeUse> uses;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            if (a < b) ++uses[{a, b}].forward;
+            else ++uses[{b, a}].backward;
+        }
+    return uses;
+}
+
+double triangle_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
+    const auto& a = m.positions[t[0]];
+    const auto& b = m.positions[t[1]];
+    const auto& c = m.positions[t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+} // namespace
+
+TEST_CASE("a sphere's scan gives one closed, oriented sheet on the points, half the closed mesh") {
+    test::TempDir dir;
+    lasgen::SceneOptions options;
+    options.kind = lasgen::SceneKind::sphere;
+    options.origin = {0, 0, 0};
+    const lasgen::Scene sphere = lasgen::make_scene(options); // 10 m diameter, points on the surface
+    test::write_file(dir.file("s.las"), test::make_las(lasgen::LasLayout{}, sphere, 300000, 7));
+    AccumulateOptions grid;
+    grid.grid.dims = {48, 0, 0};
+    const DensityGrid g = test::accumulate_file(dir.file("s.las"), grid);
+    const double iso = automatic_iso(g);
+    const Mesh sheet = extract_sheet(g, iso);
+    const Mesh closed = extract_isosurface(g, iso);
+    REQUIRE(!sheet.triangles.empty());
+    REQUIRE(sheet.normals.size() == sheet.positions.size());
+    REQUIRE(sheet.colors.size() == sheet.positions.size());
+
+    // Oriented and nearly closed: every edge at most once each way, and few edges on a
+    // boundary (where the band of defined corners is thinner than the cubes the surface
+    // crosses, a cube stays empty: see docs/design.md, "Limits").
+    std::size_t edges = 0, boundary = 0;
+    for (const auto& [edge, use] : edge_uses(sheet)) {
+        REQUIRE(use.forward <= 1);
+        REQUIRE(use.backward <= 1);
+        ++edges;
+        boundary += use.forward + use.backward == 1;
+    }
+    CAPTURE(boundary);
+    CHECK(boundary < edges / 50);
+    // On the points: the sphere's centre is at the middle of the header bounds.
+    const double h = g.spec.cell_size;
+    Vec3 centre{};
+    for (int a = 0; a < 3; ++a) centre[a] = g.spec.origin[a] + 5.0;
+    double total = 0, worst = 0;
+    for (const auto& p : sheet.positions) {
+        const double d = std::abs(std::hypot(sheet.origin[0] + p[0] - centre[0], sheet.origin[1] + p[1] - centre[1],
+                                             sheet.origin[2] + p[2] - centre[2]) -
+                                  5.0);
+        total += d;
+        worst = std::max(worst, d);
+    }
+    const double mean = total / static_cast<double>(sheet.positions.size());
+    CAPTURE(mean / h);
+    CAPTURE(worst / h);
+    CHECK(mean < 0.05 * h);  // the closed surface sits about half a cell off
+    CHECK(worst < 0.25 * h);
+    // Normals agree with the winding: each triangle's face normal and its vertices' normals.
+    for (const auto& t : sheet.triangles) {
+        const auto& a = sheet.positions[t[0]];
+        const auto& b = sheet.positions[t[1]];
+        const auto& c = sheet.positions[t[2]];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        const auto& vn = sheet.normals[t[0]];
+        REQUIRE(n[0] * vn[0] + n[1] * vn[1] + n[2] * vn[2] > 0);
+        REQUIRE(triangle_area(sheet, t) > 0);
+    }
+    CHECK(sheet.triangles.size() < 0.6 * static_cast<double>(closed.triangles.size()));
+}
+
+TEST_CASE("a thin plate scanned from both sides is one sheet between its faces") {
+    test::TempDir dir;
+    // A 2 cm plate at z = 0.50 m, 10 x 10 m, scanned on both faces (z = 0.49 and 0.51), with a
+    // few points marking the bounds; cells of 0.5 m.
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i < 200; ++i)
+        for (int j = 0; j < 200; ++j) {
+            const double x = 0.025 + i * 0.05, y = 0.025 + j * 0.05;
+            points.push_back(point(x, y, (i + j) % 2 ? 0.49 : 0.51));
+        }
+    test::write_file(dir.file("plate.las"), test::las_with_points(points, {0, 0, 0}, {10, 10, 1}));
+    AccumulateOptions grid;
+    grid.grid.dims = {20, 0, 0};
+    const DensityGrid g = test::accumulate_file(dir.file("plate.las"), grid);
+    const Mesh sheet = extract_sheet(g, automatic_iso(g));
+    REQUIRE(!sheet.triangles.empty());
+    double area = 0;
+    for (const auto& t : sheet.triangles) area += triangle_area(sheet, t);
+    CHECK(area == doctest::Approx(100).epsilon(0.06)); // one sheet: the plate's area, not twice
+    for (const auto& p : sheet.positions) REQUIRE(std::abs(p[2] - 0.5) < 0.0101); // between the faces
+    for (const auto& n : sheet.normals) REQUIRE(n[2] > 0.99); // facing up
+    int boundary = 0;
+    for (const auto& [edge, use] : edge_uses(sheet)) {
+        REQUIRE(use.forward + use.backward <= 2);
+        REQUIRE(use.forward <= 1);
+        REQUIRE(use.backward <= 1);
+        boundary += use.forward + use.backward == 1;
+    }
+    CHECK(boundary > 0); // an open sheet: its rim is a boundary
+}
+
+TEST_CASE("the sheet is the same for any number of threads") {
+    test::TempDir dir;
+    lasgen::SceneOptions options;
+    options.origin = {0, 0, 0};
+    const lasgen::Scene deck = lasgen::make_scene(options);
+    test::write_file(dir.file("d.las"), test::make_las(lasgen::LasLayout{}, deck, 200000, 11));
+    AccumulateOptions grid;
+    grid.grid.dims = {128, 0, 0};
+    const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
+    auto extract = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        return extract_sheet(g, automatic_iso(g));
+    };
+    const Mesh one = extract(1), two = extract(2);
+    REQUIRE(!one.triangles.empty());
+    CHECK(one.positions == two.positions);
+    CHECK(one.normals == two.normals);
+    CHECK(one.colors == two.colors);
+    CHECK(one.triangles == two.triangles);
+}
