@@ -17,6 +17,8 @@ c2m=$(field "$dir/c.json" '["cloud_to_mesh"]["mean"]')
 m2c=$(field "$dir/c.json" '["mesh_to_cloud"]["mean"]')
 echo "deck at grid 256: cell $cell, mean cloud to mesh $c2m, mesh to cloud $m2c"
 check "cloud to mesh: mean within about half a cell" python3 -c "assert $c2m < 0.55 * $cell"
+# The default sheet lies on the points: most of them within a tenth of a cell.
+check "sheet: median cloud to mesh under a tenth of a cell" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["median"]') < 0.1 * $cell"
 check "mesh to cloud: mean within about half a cell" python3 -c "assert $m2c < 0.55 * $cell"
 # Coverage: every point but the outlier clusters (0.3% of them) lies within two cells.
 check "every surface covered" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["within_2_cells"]') > 0.995"
@@ -29,17 +31,18 @@ for ext in drc glb; do
   check "compare reads the .$ext" python3 -c "assert abs($(field "$dir/$ext.json" '["cloud_to_mesh"]["mean"]') - $c2m) < 0.02 * $cell"
 done
 # The classic level-set placement wraps the thin surfaces a cell wide: the measure tells.
-"$lasmesh" "$dir/deck.las" --grid 256 --placement iso -o "$dir/iso.ply" 2> /dev/null
+"$lasmesh" "$dir/deck.las" --grid 256 --surface closed --placement iso -o "$dir/iso.ply" 2> /dev/null
 "$lasmesh" compare "$dir/iso.ply" "$dir/deck.las" --json > "$dir/iso.json"
 check "iso placement measured farther" python3 -c "assert $(field "$dir/iso.json" '["cloud_to_mesh"]["mean"]') > 1.5 * $c2m"
 
 # Text report, a sample of the points, a heat map; the same numbers from stdin.
-"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --heatmap "$dir/heat.ply" > "$dir/c.txt" 2> "$dir/log.txt"
+"$lasmesh" "$dir/deck.las" --grid 256 --surface closed -o "$dir/closed.ply" 2> /dev/null
+"$lasmesh" compare "$dir/closed.ply" "$dir/deck.las" --samples 50000 --heatmap "$dir/heat.ply" > "$dir/c.txt" 2> "$dir/log.txt"
 check "text report names both directions" contains "$dir/c.txt" "mesh to cloud"
 check "text report gives the points used" contains "$dir/c.txt" "1000000 points, 50000 used"
 check "heat map legend" contains "$dir/log.txt" "red 0.5"
 check "heat map is a closed coloured mesh" python3 "$here/ply_check.py" "$dir/heat.ply" 0,0,0 0,0,0 1e9
-gzip -c "$dir/deck.las" | "$lasmesh" compare "$dir/deck.ply" - --samples 50000 > "$dir/stdin.txt" 2> /dev/null
+gzip -c "$dir/deck.las" | "$lasmesh" compare "$dir/closed.ply" - --samples 50000 > "$dir/stdin.txt" 2> /dev/null
 check "stdin and gzip give the same report" diff <(tail -n +3 "$dir/c.txt") <(tail -n +3 "$dir/stdin.txt")
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/a.json"
 OMP_NUM_THREADS=1 taskset -c 0 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/b.json"

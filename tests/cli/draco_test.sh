@@ -16,7 +16,7 @@ open(sys.argv[2], "wb").write(d[:i] + b"comment origin " + sys.argv[3].replace("
 
 # --min-piece 0 keeps the outlier clusters, so the mesh spans the whole cloud for the bounds checks.
 "$lasgen" --scene deck --points 300000 -o "$dir/d.las"
-"$lasmesh" "$dir/d.las" --grid 128 --min-piece 0 -o "$dir/a.ply" -o "$dir/a.drc" -o "$dir/a.glb" 2> "$dir/summary.txt"
+"$lasmesh" "$dir/d.las" --grid 128 --surface closed --min-piece 0 -o "$dir/a.ply" -o "$dir/a.drc" -o "$dir/a.glb" 2> "$dir/summary.txt"
 check "three outputs from one run" test -s "$dir/a.ply" -a -s "$dir/a.drc" -a -s "$dir/a.glb"
 check "summary gives the quantization" contains "$dir/summary.txt" "^draco          1[0-6] bits (auto) position quantization, step"
 check "summary times each output" contains "$dir/summary.txt" "(ply [0-9.]*, drc [0-9.]*, glb [0-9.]*)"
@@ -72,10 +72,10 @@ draco_decoder -i "$dir/s.drc" -o "$dir/s.ply" > /dev/null
 check "colourless .drc decodes without colour" test -z "$(grep -a 'property uchar red' "$dir/s.ply")"
 
 # Same input, same bytes, whatever the threads; the options change the stream.
-"$lasmesh" "$dir/d.las" --grid 128 --min-piece 0 -o "$dir/b.drc" -o "$dir/b.glb" --threads 1 2> /dev/null
+"$lasmesh" "$dir/d.las" --grid 128 --surface closed --min-piece 0 -o "$dir/b.drc" -o "$dir/b.glb" --threads 1 2> /dev/null
 check "the .drc is byte-identical on a second run" cmp -s "$dir/a.drc" "$dir/b.drc"
 check "the .glb is byte-identical on a second run" cmp -s "$dir/a.glb" "$dir/b.glb"
-"$lasmesh" "$dir/d.las" --grid 128 --min-piece 0 -o "$dir/c.drc" --draco-bits 16 --draco-level 0 2> "$dir/summary16.txt"
+"$lasmesh" "$dir/d.las" --grid 128 --surface closed --min-piece 0 -o "$dir/c.drc" --draco-bits 16 --draco-level 0 2> "$dir/summary16.txt"
 check "--draco-bits is reported" contains "$dir/summary16.txt" "^draco          16 bits position quantization.*level 0"
 check "--draco-bits 16 --draco-level 0 gives other bytes" test "$(stat -c %s "$dir/c.drc")" -gt "$(stat -c %s "$dir/a.drc")"
 draco_decoder -i "$dir/c.drc" -o "$dir/c.ply" > /dev/null
