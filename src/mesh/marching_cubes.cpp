@@ -36,6 +36,8 @@ struct DensityField {
         const double v = value(x, y, z);
         return {static_cast<float>(v), 0, true, v > iso};
     }
+    // Each sample is one cell's count: nothing to share between a brick's samples.
+    const DensityField& sampler(const std::array<std::int64_t, 3>&, std::int64_t) const { return *this; }
     bool accepts(const detail::FieldSample&, const detail::FieldSample&) const { return true; }
 
     // Where the vertex of a crossed edge lies, as a fraction of the way from p to its neighbour

@@ -59,7 +59,8 @@ struct LatticeBricks {
     }
 };
 
-// Field: FieldSample sample(x, y, z) for any lattice point (outside the lattice too);
+// Field: sampler(first, n), an object whose sample(x, y, z) gives the sample at the lattice
+// points first + [0, n) on each axis (outside the lattice too: undefined);
 // bool accepts(a, b) for two defined samples of which one is inside; and
 // void vertex(p, axis, a, b, VertexOut&) for the crossing on the edge from p along axis.
 template <class Field>
@@ -154,10 +155,12 @@ private:
             const auto& l = owner.l_;
             origin = {std::int64_t(key % l.bricks[0]) * B, std::int64_t(key / l.bricks[0] % l.bricks[1]) * B,
                       std::int64_t(key / l.bricks[0] / l.bricks[1]) * B};
+            // The field may prepare what the brick's samples share (the cells around them).
+            const auto sampler = owner.f_.sampler({origin[0] - 1, origin[1] - 1, origin[2] - 1}, S);
             for (std::int64_t z = 0; z < S; ++z)
                 for (std::int64_t y = 0; y < S; ++y)
                     for (std::int64_t x = 0; x < S; ++x)
-                        samples[(z * S + y) * S + x] = owner.f_.sample(origin[0] + x - 1, origin[1] + y - 1, origin[2] + z - 1);
+                        samples[(z * S + y) * S + x] = sampler.sample(origin[0] + x - 1, origin[1] + y - 1, origin[2] + z - 1);
             for (std::int64_t z = -1; z < B; ++z)
                 for (std::int64_t y = -1; y < B; ++y)
                     for (std::int64_t x = -1; x < B; ++x)

@@ -182,31 +182,61 @@ struct SheetField {
     std::array<std::int64_t, 3> points;
     double h;
 
-    detail::FieldSample sample(std::int64_t x, std::int64_t y, std::int64_t z) const {
-        if (x < 0 || y < 0 || z < 0 || x >= points[0] || y >= points[1] || z >= points[2]) return {};
-        const Vec corner{static_cast<double>(x) * h, static_cast<double>(y) * h, static_cast<double>(z) * h};
-        std::uint32_t nearest = no_plane;
-        double nearest_distance = 0;
-        auto consider = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-            const std::uint32_t p = planes.at(cx, cy, cz);
-            if (p == no_plane) return;
-            const Vec& m = planes.centroid[p];
-            const Vec d{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]};
-            if (nearest == no_plane || dot(d, d) < nearest_distance) nearest = p, nearest_distance = dot(d, d);
-        };
-        // The eight cells around the corner, in a fixed order; failing those, the ring of cells
-        // around them, so that every cube next to a surface cell has all its corners: the zero
-        // set may leave a surface cell through a face into an empty one.
-        for (int c = 0; c < 8; ++c) consider(x - 1 + (c & 1), y - 1 + ((c >> 1) & 1), z - 1 + ((c >> 2) & 1));
-        if (nearest == no_plane)
-            for (std::int64_t cz = z - 2; cz <= z + 1; ++cz)
-                for (std::int64_t cy = y - 2; cy <= y + 1; ++cy)
-                    for (std::int64_t cx = x - 2; cx <= x + 1; ++cx) consider(cx, cy, cz);
-        if (nearest == no_plane) return {};
-        const Vec& m = planes.centroid[nearest];
-        const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
-        return {static_cast<float>(f), nearest, true, f < 0};
+    // The samples of a block of n^3 corners from `first`, with the planes of the cells they
+    // look at (two cells beyond the block each way) looked up once.
+    struct Sampler {
+        const SheetField& field;
+        std::array<std::int64_t, 3> first; // the first cell held
+        std::int64_t span;                 // cells held per axis
+        std::vector<std::uint32_t> plane;  // per held cell, x fastest
+        bool empty = true;                 // no surface cell near the block: nothing defined
+
+        std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+            return plane[((z - first[2]) * span + (y - first[1])) * span + (x - first[0])];
+        }
+        detail::FieldSample sample(std::int64_t x, std::int64_t y, std::int64_t z) const {
+            const auto& points = field.points;
+            if (empty || x < 0 || y < 0 || z < 0 || x >= points[0] || y >= points[1] || z >= points[2]) return {};
+            const double h = field.h;
+            const Vec corner{static_cast<double>(x) * h, static_cast<double>(y) * h, static_cast<double>(z) * h};
+            const Planes& planes = field.planes;
+            std::uint32_t nearest = no_plane;
+            double nearest_distance = 0;
+            auto consider = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+                const std::uint32_t p = at(cx, cy, cz);
+                if (p == no_plane) return;
+                const Vec& m = planes.centroid[p];
+                const Vec d{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]};
+                if (nearest == no_plane || dot(d, d) < nearest_distance) nearest = p, nearest_distance = dot(d, d);
+            };
+            // The eight cells around the corner, in a fixed order; failing those, the ring of
+            // cells around them, so that every cube next to a surface cell has all its corners:
+            // the zero set may leave a surface cell through a face into an empty one.
+            for (int c = 0; c < 8; ++c) consider(x - 1 + (c & 1), y - 1 + ((c >> 1) & 1), z - 1 + ((c >> 2) & 1));
+            if (nearest == no_plane)
+                for (std::int64_t cz = z - 2; cz <= z + 1; ++cz)
+                    for (std::int64_t cy = y - 2; cy <= y + 1; ++cy)
+                        for (std::int64_t cx = x - 2; cx <= x + 1; ++cx) consider(cx, cy, cz);
+            if (nearest == no_plane) return {};
+            const Vec& m = planes.centroid[nearest];
+            const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
+            return {static_cast<float>(f), nearest, true, f < 0};
+        }
+    };
+    Sampler sampler(const std::array<std::int64_t, 3>& first_corner, std::int64_t n) const {
+        Sampler s{*this, {first_corner[0] - 2, first_corner[1] - 2, first_corner[2] - 2}, n + 3, {}};
+        s.plane.resize(static_cast<std::size_t>(s.span * s.span * s.span));
+        std::size_t i = 0;
+        for (std::int64_t z = 0; z < s.span; ++z)
+            for (std::int64_t y = 0; y < s.span; ++y)
+                for (std::int64_t x = 0; x < s.span; ++x) {
+                    s.plane[i] = planes.at(s.first[0] + x, s.first[1] + y, s.first[2] + z);
+                    s.empty = s.empty && s.plane[i] == no_plane;
+                    ++i;
+                }
+        return s;
     }
+
     // Two planes are the same surface when their normals point to the same side and each
     // centroid lies within two cells of the other's plane (measured on the deck: stricter
     // rules tear more holes than they avoid stray triangles).
