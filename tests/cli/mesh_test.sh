@@ -31,6 +31,10 @@ check "gzip gives identical bytes" cmp -s "$dir/sheet.ply" "$dir/gz.ply"
 "$lasmesh" "$dir/s.las" -o "$dir/t2.ply" --grid 40 --threads 2 2> /dev/null
 check "1 thread and small slices give identical bytes" cmp -s "$dir/sheet.ply" "$dir/t1.ply"
 check "2 threads give identical bytes" cmp -s "$dir/sheet.ply" "$dir/t2.ply"
+# Acquisition order instead of random order: the same points, another record order, the same mesh.
+"$lasgen" --scene sphere --size 10 --points 200000 --origin 500000,6700000,50 --color 12,200,99 --order scan -o "$dir/scan.las"
+"$lasmesh" "$dir/scan.las" -o "$dir/scan.ply" --grid 40 2> /dev/null
+check "record order does not change a byte" cmp -s "$dir/sheet.ply" "$dir/scan.ply"
 
 # The deck scene, with its many colours, holes and outliers, still gives a closed mesh.
 "$lasgen" --scene deck --points 300000 -o "$dir/d.las"

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -30,7 +31,18 @@ struct Options {
     std::vector<double> origin;
     std::vector<int> color;
     std::string output = "-";
+    std::string order = "random";
 };
+
+// A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
+std::uint64_t morton_key(const lasmesh::Vec3& p, const lasmesh::Vec3& min) {
+    std::uint64_t key = 0;
+    std::uint32_t q[3];
+    for (int a = 0; a < 3; ++a) q[a] = static_cast<std::uint32_t>(std::clamp((p[a] - min[a]) / 0.02, 0.0, 2097151.0));
+    for (int bit = 20; bit >= 0; --bit)
+        for (int a = 2; a >= 0; --a) key = (key << 1) | ((q[a] >> bit) & 1);
+    return key;
+}
 
 void write_all(std::FILE* out, const std::byte* data, std::size_t size, const std::string& name) {
     if (std::fwrite(data, 1, size, out) != size)
@@ -75,13 +87,23 @@ void generate(const Options& o) {
     const std::size_t length = lasgen::record_length(layout);
     const std::uint64_t batch = 1 << 18;
     std::vector<std::byte> buffer(batch * length);
+    std::vector<lasgen::GeneratedPoint> points(batch);
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(batch);
+    const bool scan_order = o.order == "scan";
     for (std::uint64_t first = 0; first < o.points; first += batch) {
         const std::size_t count = static_cast<std::size_t>(std::min(batch, o.points - first));
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const auto point = lasgen::generate_point(scene, o.seed, first + i);
-                lasgen::encode_record(layout, point, first + i, buffer.data() + i * length);
+                points[i] = lasgen::generate_point(scene, o.seed, first + i);
+                keys[i] = {scan_order ? morton_key(points[i].position, scene.min) : 0, static_cast<std::uint32_t>(i)};
             }
+        });
+        // Scan order imitates a scanner's acquisition order: each batch of points sorted along a
+        // space-filling curve, so consecutive records lie centimetres apart.
+        if (scan_order) std::sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i)
+                lasgen::encode_record(layout, points[keys[i].second], first + i, buffer.data() + i * length);
         });
         write_all(out, buffer.data(), count * length, name);
     }
@@ -95,6 +117,9 @@ int main(int argc, char** argv) {
     CLI::App app{"lasgen: synthetic LAS scenes (sphere, box, torus, or a ship's deck) for lasmesh"};
     Options o;
     app.add_option("--scene", o.scene, "sphere, box, torus or deck")->capture_default_str();
+    app.add_option("--order", o.order, "random: points in no order; scan: in acquisition-like order (consecutive points close together)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"random", "scan"}));
     app.add_option("-n,--points", o.points, "Number of points")->capture_default_str();
     app.add_option("--seed", o.seed, "Random seed; the same seed gives the same file")->capture_default_str();
     app.add_option("--las-version", o.version, "LAS version 1.0 to 1.4")->capture_default_str();
