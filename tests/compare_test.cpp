@@ -79,6 +79,7 @@ TEST_CASE("distance statistics") {
     CHECK(s.max == 9);
     CHECK(s.within_1_cell == doctest::Approx(0.3)); // 0, 1, 2
     CHECK(s.within_2_cells == doctest::Approx(0.6)); // 0 .. 5: the limit itself counts as within
+    CHECK(s.mean_within_2_cells == doctest::Approx(2.5)); // the mean of 0 .. 5
     std::vector<double> none;
     CHECK(summarize(none, 1).count == 0);
     std::vector<double> one{2};

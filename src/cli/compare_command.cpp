@@ -30,6 +30,7 @@ Json stats_json(const DistanceStats& s) {
     if (s.within_1_cell >= 0) {
         json["within_1_cell"] = s.within_1_cell;
         json["within_2_cells"] = s.within_2_cells;
+        json["mean_within_2_cells"] = s.mean_within_2_cells;
     }
     return json;
 }
@@ -38,7 +39,8 @@ void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
     out << name << "mean " << s.mean << ", std " << s.std << ", median " << s.median << ", p95 " << s.p95
         << ", p99 " << s.p99 << ", max " << s.max;
     if (s.within_1_cell >= 0)
-        out << "; within 1 cell " << 100 * s.within_1_cell << "%, 2 cells " << 100 * s.within_2_cells << "%";
+        out << "; within 1 cell " << 100 * s.within_1_cell << "%, 2 cells " << 100 * s.within_2_cells
+            << "% (mean of those " << s.mean_within_2_cells << ")";
     out << "\n";
 }
 

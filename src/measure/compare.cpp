@@ -89,6 +89,10 @@ DistanceStats summarize(std::vector<double>& d, double cell_size) {
     if (cell_size > 0) {
         auto share = [&](double limit) { return (std::upper_bound(d.begin(), d.end(), limit) - d.begin()) / n; };
         s.within_1_cell = share(cell_size), s.within_2_cells = share(2 * cell_size);
+        const auto near_end = std::upper_bound(d.begin(), d.end(), 2 * cell_size);
+        long double near_sum = 0;
+        for (auto v = d.begin(); v != near_end; ++v) near_sum += *v;
+        if (near_end != d.begin()) s.mean_within_2_cells = static_cast<double>(near_sum / static_cast<long double>(near_end - d.begin()));
     }
     return s;
 }

@@ -16,6 +16,9 @@ struct DistanceStats {
     std::uint64_t count = 0;
     double mean = 0, std = 0, median = 0, p95 = 0, p99 = 0, max = 0;
     double within_1_cell = -1, within_2_cells = -1; // shares in [0, 1]; -1 when no cell size is known
+    // The mean over the distances of at most 2 cells: how far the mesh is from the points it
+    // meshed, without the outlier clusters and removed pieces that dominate the plain mean.
+    double mean_within_2_cells = -1;
 };
 
 // Summary statistics of `distances` (reordered in place); percentiles are nearest-rank.
