@@ -18,6 +18,10 @@ struct MeshOptions {
     std::string iso = "auto";
     std::string placement = "surface";
     std::string min_piece = "5%";
+    std::string simplify = "0.5cell";
+    bool normals = true;
+    std::string glb_compression = "none";
+    std::string glb_origin = "extras";
     bool ascii = false;
     DracoOptions draco; // for .drc and .glb outputs
     int threads = 0; // 0: all cores
