@@ -90,15 +90,17 @@ std::string mesh_name(const std::string& input) {
 [[noreturn]] void empty_mesh_error(const RunReport& r, const DensityGrid& grid, std::size_t extracted) {
     std::string why;
     if (r.points_read == r.points_outside) {
-        why = "all " + std::to_string(r.points_read) + " points lie outside the grid: check --bounds";
+        why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
+              std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
     } else if (extracted == 0) {
         const std::uint64_t fullest = grid.count.empty() ? 0 : *std::max_element(grid.count.begin(), grid.count.end());
         why = "the iso " + shortest(r.iso) + " points per cell left nothing: the fullest cell holds " +
               std::to_string(fullest) + " points";
-        why += double(fullest) < r.iso ? "; the grid (" + std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) +
-                                             " x " + std::to_string(r.grid.dims[2]) +
-                                             " cells) is too fine for the point density: try a coarser --grid or a lower --iso"
-                                       : ": try a higher --iso";
+        const std::string dims = std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) + " x " +
+                                 std::to_string(r.grid.dims[2]);
+        if (double(fullest) >= r.iso) why += ": try a higher --iso";
+        else if (r.iso_auto) why += "; the grid (" + dims + " cells) is too fine for the point density: try a coarser --grid";
+        else why += ": try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
     } else if (r.pieces.removed > 0 && r.pieces.triangles_removed >= extracted) {
         why = "--min-piece removed all " + std::to_string(r.pieces.removed) + " pieces (" +
               std::to_string(r.pieces.triangles_removed) + " triangles), each smaller than a diagonal of " +

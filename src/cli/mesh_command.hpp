@@ -18,7 +18,7 @@ struct MeshOptions {
     std::string iso = "auto";
     std::string placement = "surface";
     std::string min_piece = "5%";
-    std::string simplify = "0.5cell";
+    std::string simplify = "0";
     bool normals = true;
     std::string glb_compression = "none";
     std::string glb_origin = "extras";
