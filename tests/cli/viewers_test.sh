@@ -48,8 +48,9 @@ else
   echo "skipped: assimp (Debian assimp-utils) is not installed"
 fi
 
-if python3 -c "import open3d" 2> /dev/null; then
-  check "Open3D reads the plain .glb with colours and normals" python3 -c '
+# Debian's python3-open3d is for Debian's own python3, which may not be the first on PATH.
+if /usr/bin/python3 -c "import open3d" 2> /dev/null; then
+  check "Open3D reads the plain .glb with colours and normals" /usr/bin/python3 -c '
 import sys, open3d as o3d
 m = o3d.io.read_triangle_mesh(sys.argv[1])
 assert len(m.triangles) == int(sys.argv[2]), (len(m.triangles), sys.argv[2])
