@@ -1,5 +1,5 @@
-// The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces -> write
-// each output, timed per stage and per output.
+// The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
+// simplify -> normals -> write each output, timed per stage and per output.
 #include "lasmesh/build_mesh.hpp"
 
 #include "lasmesh/error.hpp"
@@ -7,15 +7,18 @@
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/ply_writer.hpp"
+#include "lasmesh/mesh/normals.hpp"
 #include "lasmesh/read/las_scan.hpp"
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 
 #include <sys/resource.h>
@@ -64,12 +67,49 @@ Bounds scanned_bounds(const std::string& input) {
     return {scan.min, scan.max};
 }
 
-void write_output(const Mesh& mesh, const OutputRequest& output) {
-    switch (output.format) {
-    case MeshFormat::ply: write_ply(mesh, output.path, output.ascii); break;
-    case MeshFormat::draco: write_draco(mesh, output.path, output.draco); break;
-    case MeshFormat::glb: write_glb(mesh, output.path, output.draco); break;
+// Writes one output into its temporary file; build_mesh renames them all at the end.
+void write_output(const Mesh& mesh, const OutputRequest& output, const std::string& name, OutputFile& file) {
+    if (output.format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
+    std::string bytes;
+    try {
+        if (output.format == MeshFormat::draco) bytes = encode_draco(mesh, output.draco);
+        else bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
+    } catch (const Error& e) {
+        throw Error(e.kind(), output.path + ": " + e.what());
     }
+    file.write(bytes);
+}
+
+// The name of the .glb's scene, node, mesh and material: the input's file name without extension.
+std::string mesh_name(const std::string& input) {
+    const std::string stem = std::filesystem::path(input).stem().string();
+    return input == "-" || stem.empty() ? "lasmesh" : stem;
+}
+
+// Why the mesh came out empty, and what to try: the step that removed the last triangle.
+[[noreturn]] void empty_mesh_error(const RunReport& r, const DensityGrid& grid, std::size_t extracted) {
+    std::string why;
+    if (r.points_read == r.points_outside) {
+        why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
+              std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
+    } else if (extracted == 0) {
+        std::uint64_t fullest = 0;
+        for (const CellSums& cell : grid.cells) fullest = std::max(fullest, cell.count);
+        why = "the iso " + shortest(r.iso) + " points per cell left nothing: the fullest cell holds " +
+              std::to_string(fullest) + " points";
+        const std::string dims = std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) + " x " +
+                                 std::to_string(r.grid.dims[2]);
+        if (double(fullest) >= r.iso) why += ": try a higher --iso";
+        else if (r.iso_auto) why += "; the grid (" + dims + " cells) is too fine for the point density: try a coarser --grid";
+        else why += ": try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
+    } else if (r.pieces.removed > 0 && r.pieces.triangles_removed >= extracted) {
+        why = "--min-piece removed all " + std::to_string(r.pieces.removed) + " pieces (" +
+              std::to_string(r.pieces.triangles_removed) + " triangles), each smaller than a diagonal of " +
+              shortest(r.pieces.min_diagonal) + ": try a smaller --min-piece, or --min-piece 0 to keep every piece";
+    } else {
+        why = "--simplify removed every triangle: try a smaller --simplify, or --simplify 0";
+    }
+    throw Error(ErrorKind::input, r.input + ": the mesh is empty, nothing written: " + why);
 }
 
 } // namespace
@@ -132,21 +172,42 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.surface = o.surface;
     r.placement = o.placement;
     Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(grid, r.iso) : extract_isosurface(grid, r.iso, o.placement);
-    watch.detail("extracted      " + std::to_string(mesh.triangles.size()) + " triangles at iso " + shortest(r.iso));
+    const std::size_t extracted = mesh.triangles.size();
+    watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + shortest(r.iso));
     r.pieces = remove_small_pieces(mesh, o.min_piece);
+    SimplifyOptions simplify;
+    simplify.error = o.simplify.in_cells ? o.simplify.error * grid.spec.cell_size : o.simplify.error;
+    simplify.lock_border = o.simplify.lock_border;
+    r.simplify = simplify_mesh(mesh, simplify);
+    if (simplify.error > 0)
+        watch.detail("simplified     " + std::to_string(r.simplify.triangles_before) + " to " +
+                     std::to_string(r.simplify.triangles_after) + " triangles within " + shortest(simplify.error) +
+                     " in " + two_digits(r.simplify.seconds) + " s");
+    r.input = reader.stream().name();
+    if (mesh.triangles.empty()) empty_mesh_error(r, grid, extracted);
+    if (!o.normals) mesh.normals.clear();
+    else if (mesh.normals.empty()) compute_vertex_normals(mesh); // the extraction gave none
     r.extract = seconds_since(extract_start);
     r.vertices = mesh.positions.size(), r.triangles = mesh.triangles.size(), r.colored = !mesh.colors.empty();
+    r.normals = !mesh.normals.empty();
     r.origin = mesh.origin;
     watch.stage_ended(BuildStage::extract, r);
 
+    // Every output into its temporary file first, then all renamed: all of them or none.
     const auto write_start = std::chrono::steady_clock::now();
+    const std::string name = mesh_name(input);
+    std::vector<std::unique_ptr<OutputFile>> files;
     for (const OutputRequest& output : o.outputs) {
         watch.stage_started(BuildStage::write, "writing " + output.path);
         const auto output_start = std::chrono::steady_clock::now();
-        write_output(mesh, output);
-        r.outputs.push_back({output.path, std::filesystem::file_size(output.path), seconds_since(output_start)});
+        files.push_back(std::make_unique<OutputFile>(output.path));
+        write_output(mesh, output, name, *files.back());
+        files.back()->finish();
+        r.outputs.push_back({output.path, 0, seconds_since(output_start)});
         watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");
     }
+    commit_all(files);
+    for (OutputReport& output : r.outputs) output.bytes = std::filesystem::file_size(output.path);
     r.write = seconds_since(write_start);
     r.total = seconds_since(start);
     r.peak_rss_bytes = peak_rss_bytes();

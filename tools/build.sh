@@ -12,10 +12,14 @@ packages=(
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libdraco-dev draco
+  # simplification (--simplify)
+  libmeshoptimizer-dev
   # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc
   gzip bzip2 xz-utils zstd python3 bc
   # the install test renders the man page
   groff-base
+  # the viewers test opens the outputs in other programs: assimp (as Open3D and many viewers do)
+  assimp-utils python3-open3d
   # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang-14 libclang-rt-14-dev
 )

@@ -1,4 +1,4 @@
-// lasmesh as one library call: a LAS point cloud in, a coloured triangle mesh out.
+// lasmesh as one library call: a LAS point cloud in, a coloured triangle mesh with normals out.
 //
 //     lasmesh::BuildOptions options;
 //     options.grid.dims = {512, 0, 0};                        // 512 cells along the longest axis
@@ -10,18 +10,23 @@
 //   grid     the points counted into a sparse grid of cubic cells on an OpenCL device: per cell
 //            the count and the sums of colours and positions
 //   mesh     one sheet through the points of each surface (or a closed surface), then small
-//            isolated pieces removed
-//   io       each requested output written (PLY, Draco, glTF) through a temporary file
+//            isolated pieces removed, then the mesh simplified to an error bound (when asked),
+//            then vertex normals (where the extraction gave none)
+//   io       each requested output written (PLY, Draco, glTF) to a temporary file; all renamed
+//            into place at the end, so either every output appears or none does
+// An empty mesh is an error (ErrorKind::input) saying which step removed what and what to try.
 // Every failure is an Error with its kind (see error.hpp); nothing is written to a stream:
 // progress and details go to the BuildObserver, numbers to the RunReport.
 #pragma once
 
 #include "lasmesh/grid/grid.hpp"
 #include "lasmesh/io/draco_writer.hpp"
+#include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
 #include "lasmesh/mesh/surface_sheet.hpp"
+#include "lasmesh/mesh/simplify.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -34,7 +39,7 @@ namespace lasmesh {
 enum class MeshFormat {
     ply,   // PLY, binary little-endian unless `ascii`
     draco, // .drc: Draco-compressed mesh
-    glb,   // glTF 2.0 binary with the KHR_draco_mesh_compression extension
+    glb,   // glTF 2.0 binary, plain or Draco-compressed (see io/gltf_writer.hpp)
 };
 
 // One file to write. Its folder is checked before anything is read, so nobody waits to learn
@@ -43,7 +48,20 @@ struct OutputRequest {
     std::string path;
     MeshFormat format = MeshFormat::ply;
     bool ascii = false; // ply only
-    DracoOptions draco; // draco and glb only
+    DracoOptions draco; // draco, and glb with GltfCompression::draco
+    GltfCompression glb_compression = GltfCompression::none; // glb only: plain opens everywhere
+    GltfOrigin glb_origin = GltfOrigin::extras;               // glb only: translation node or not
+};
+
+// How far simplification may move the surface: a length in the file's units, or in cells.
+struct SimplifyRequest {
+    // 0 (the default): no simplification. Off by default because meshoptimizer 0.18 (Debian 12)
+    // turns over a few faces (~0.2%) and leaves some edges used twice in one direction on
+    // today's marching-cubes meshes, which breaks their closed, oriented surface; 0.5 cells is
+    // the suggested value (see docs/benchmarks.md).
+    double error = 0;
+    bool in_cells = true;     // `error` counts grid cells (0.5: half a cell)
+    bool lock_border = false; // open borders stay where they are (tile seams)
 };
 
 struct BuildOptions {
@@ -54,6 +72,8 @@ struct BuildOptions {
     SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface; // closed surfaces only
     MinPiece min_piece;                // default: 5% of the mesh diagonal
+    SimplifyRequest simplify;          // default: off (see SimplifyRequest)
+    bool normals = true;               // per-vertex normals in every output
     std::string device = "auto";       // "auto" (a GPU if any), an index or part of a name
     int threads = 0;                   // extraction threads; 0: all cores
     std::uint64_t slice_bytes = 0;     // largest upload to the device; 0: 16 MiB
@@ -79,11 +99,12 @@ struct RunReport {
     VertexPlacement placement = VertexPlacement::surface;
     std::uint64_t occupied_cells = 0, occupied_bricks = 0, pool_bytes = 0; // the sparse grid
     PieceCount pieces;
+    SimplifyReport simplify;           // triangles before and after, the bound in file units, seconds
     std::size_t vertices = 0, triangles = 0;
-    bool colored = false;
+    bool colored = false, normals = false;
     Vec3 origin{};                     // output positions are relative to it
     std::vector<OutputReport> outputs;
-    double read_accumulate = 0, extract = 0, write = 0, total = 0; // seconds
+    double read_accumulate = 0, extract = 0, write = 0, total = 0; // seconds (extract includes simplify)
     std::uint64_t peak_rss_bytes = 0;
 };
 
@@ -111,8 +132,10 @@ struct BuildObserver {
 };
 
 // Reads `input` (a LAS path, or "-" for standard input), builds the density grid, extracts the
-// surface, removes small pieces and writes every output. Throws Error: usage for options that
-// cannot work (no outputs, a grid that does not fit), input, device or output otherwise.
+// surface, removes small pieces, simplifies, computes normals and writes every output (a .glb's
+// scene, node, mesh and material are named after the input's file name without extension).
+// Throws Error: usage for options that cannot work (no outputs, a grid that does not fit), input
+// for an input that gives no mesh (nothing written then), device or output otherwise.
 BuildResult build_mesh(const std::string& input, const BuildOptions& options, BuildObserver* observer = nullptr);
 
 // The format an output path's extension names (.ply, .drc, .glb, any case), or nullopt.

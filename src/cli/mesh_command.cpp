@@ -17,7 +17,7 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)");
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
-                   ".drc (Draco), .glb (glTF 2.0 binary, Draco-compressed)");
+                   ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression)");
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
@@ -34,6 +34,18 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("--min-piece", o.min_piece,
                    "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
                    "whole mesh's diagonal (5%), a length in the file's units, or 0 to keep all")
+        ->capture_default_str();
+    app.add_option("--simplify", o.simplify,
+                   "Simplify until the surface would move more than this: a length in the file's units, a "
+                   "fraction of a cell (0.5cell), or 0 for none")
+        ->capture_default_str();
+    app.add_flag("--normals,!--no-normals", o.normals, "Per-vertex normals in every output (default: on)");
+    app.add_option("--glb-compression", o.glb_compression,
+                   "none: a plain .glb every viewer opens; draco: smaller, for three.js and the web")
+        ->capture_default_str();
+    app.add_option("--glb-origin", o.glb_origin,
+                   "Where the .glb keeps the world origin: extras (data only, the mesh stays local) or node "
+                   "(also a node translation, for geo viewers; float32 in most)")
         ->capture_default_str();
     app.add_flag("--ascii", o.ascii, "Write ASCII PLY instead of binary");
     app.add_option("--draco-bits", o.draco.position_bits,
@@ -56,12 +68,14 @@ namespace {
 BuildOptions build_options(const MeshOptions& o) {
     if (o.outputs.empty()) throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
     BuildOptions b;
+    const GltfCompression glb_compression = parse_glb_compression(o.glb_compression);
+    const GltfOrigin glb_origin = parse_glb_origin(o.glb_origin);
     for (const std::string& path : o.outputs) {
         const std::optional<MeshFormat> format = format_from_extension(path);
         if (!format)
             throw Error(ErrorKind::usage, "-o \"" + path + "\": unknown output extension, expected .ply, .drc or .glb");
         check_output_folder(path);
-        b.outputs.push_back({path, *format, o.ascii, o.draco});
+        b.outputs.push_back({path, *format, o.ascii, o.draco, glb_compression, glb_origin});
     }
     if (!o.report.empty()) check_output_folder(o.report);
     const AccumulateOptions accumulate = accumulate_options(o.grid);
@@ -72,6 +86,8 @@ BuildOptions build_options(const MeshOptions& o) {
     const double iso = parse_iso(o.iso);
     if (iso >= 0) b.iso = iso;
     b.min_piece = parse_min_piece(o.min_piece);
+    b.simplify = parse_simplify(o.simplify);
+    b.normals = o.normals;
     b.placement = parse_placement(o.placement);
     b.surface = o.surface;
     b.device = o.grid.device;
@@ -89,8 +105,10 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     context.min_piece_text = o.min_piece;
     context.relative_min_piece = options.min_piece.relative;
     context.draco = o.draco;
-    context.any_draco = std::any_of(options.outputs.begin(), options.outputs.end(),
-                                    [](const OutputRequest& out) { return out.format != MeshFormat::ply; });
+    context.simplify_text = o.simplify;
+    context.any_draco = std::any_of(options.outputs.begin(), options.outputs.end(), [](const OutputRequest& out) {
+        return out.format == MeshFormat::draco || (out.format == MeshFormat::glb && out.glb_compression == GltfCompression::draco);
+    });
     options.keep_mesh = context.any_draco && !o.quiet; // the Draco line reports bits and step of the mesh
     MeshObserver observer(summary, o.progress, o.verbose, o.quiet);
     const BuildResult result = build_mesh(o.input, options, &observer);

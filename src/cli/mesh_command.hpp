@@ -19,6 +19,10 @@ struct MeshOptions {
     SurfaceKind surface = SurfaceKind::sheet;
     std::string placement = "surface";
     std::string min_piece = "5%";
+    std::string simplify = "0";
+    bool normals = true;
+    std::string glb_compression = "none";
+    std::string glb_origin = "extras";
     bool ascii = false;
     DracoOptions draco; // for .drc and .glb outputs
     int threads = 0; // 0: all cores

@@ -52,9 +52,12 @@ void write_report_json(const RunReport& r, const std::string& path) {
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
                            {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}};
     json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
+    json["simplify"] = {{"triangles_before", r.simplify.triangles_before}, {"triangles_after", r.simplify.triangles_after},
+                        {"error", r.simplify.error}, {"seconds", r.simplify.seconds}};
     json["vertices"] = r.vertices;
     json["triangles"] = r.triangles;
     json["colored"] = r.colored;
+    json["normals"] = r.normals;
     json["origin"] = r.origin;
     json["outputs"] = Json::array();
     for (const OutputReport& output : r.outputs)
@@ -86,8 +89,15 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << format_double(r.pieces.min_diagonal)
             << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : std::string()) << "\n"
-            << "mesh           " << r.vertices << " vertices, " << r.triangles << " triangles"
-            << (r.colored ? ", coloured" : ", no colour") << "\n";
+            << "simplify       ";
+    if (r.simplify.error > 0)
+        summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, the surface moved "
+                << "at most " << format_double(r.simplify.error) << " (" << c.simplify_text << "), in "
+                << two_digits(r.simplify.seconds) << " s\n";
+    else
+        summary << "off\n";
+    summary << "mesh           " << r.vertices << " vertices, " << r.triangles << " triangles"
+            << (r.colored ? ", coloured" : ", no colour") << (r.normals ? ", normals" : "") << "\n";
     if (c.any_draco && c.mesh) {
         const int bits = position_bits(*c.mesh, c.draco);
         summary << "draco          " << bits << " bits" << (c.draco.position_bits == 0 ? " (auto)" : "")

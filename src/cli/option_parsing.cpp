@@ -98,4 +98,31 @@ MinPiece parse_min_piece(const std::string& text) {
     return {relative ? value / 100 : value, relative};
 }
 
+SimplifyRequest parse_simplify(const std::string& text) {
+    const std::string unit = "cell";
+    const bool in_cells = text.size() > unit.size() && text.compare(text.size() - unit.size(), unit.size(), unit) == 0;
+    const std::string number = in_cells ? text.substr(0, text.size() - unit.size()) : text;
+    double value = 0;
+    const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
+    if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) || value < 0)
+        usage_error("--simplify \"" + text + "\": expected a length in the file's units, a fraction of a cell (e.g. "
+                    "0.5cell), or 0 for none");
+    SimplifyRequest request;
+    request.error = value;
+    request.in_cells = in_cells;
+    return request;
+}
+
+GltfCompression parse_glb_compression(const std::string& text) {
+    if (text == "none") return GltfCompression::none;
+    if (text == "draco") return GltfCompression::draco;
+    usage_error("--glb-compression \"" + text + "\": expected none or draco");
+}
+
+GltfOrigin parse_glb_origin(const std::string& text) {
+    if (text == "extras") return GltfOrigin::extras;
+    if (text == "node") return GltfOrigin::node;
+    usage_error("--glb-origin \"" + text + "\": expected extras or node");
+}
+
 } // namespace lasmesh::cli

@@ -3,6 +3,7 @@
 // Each parser throws Error (usage) quoting the option and the text it could not use.
 #pragma once
 
+#include "lasmesh/build_mesh.hpp"
 #include "lasmesh/grid/grid.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
@@ -23,5 +24,11 @@ double parse_iso(const std::string& text);
 VertexPlacement parse_placement(const std::string& text);
 // "--min-piece": "5%" (of the mesh diagonal), "2.5" (file units) or "0" (keep all).
 MinPiece parse_min_piece(const std::string& text);
+// "--simplify": "0.5cell" (of a grid cell), "0.02" (file units) or "0" (off).
+SimplifyRequest parse_simplify(const std::string& text);
+// "--glb-compression": "none" or "draco".
+GltfCompression parse_glb_compression(const std::string& text);
+// "--glb-origin": "extras" or "node".
+GltfOrigin parse_glb_origin(const std::string& text);
 
 } // namespace lasmesh::cli

@@ -73,6 +73,9 @@ std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoCol
     out.set_num_points(static_cast<draco::PointIndex::ValueType>(mesh.positions.size()));
     add_attribute<float>(out, draco::GeometryAttribute::POSITION, draco::DT_FLOAT32, false, draco_position_id,
                          [&](std::size_t i) { return mesh.positions[i]; });
+    if (!mesh.normals.empty())
+        add_attribute<float>(out, draco::GeometryAttribute::NORMAL, draco::DT_FLOAT32, false, draco_normal_id,
+                             [&](std::size_t i) { return mesh.normals[i]; });
     if (!mesh.colors.empty() && color == DracoColor::srgb8)
         add_attribute<std::uint8_t>(out, draco::GeometryAttribute::COLOR, draco::DT_UINT8, true, draco_color_id,
                                     [&](std::size_t i) { return mesh.colors[i]; });
@@ -92,11 +95,13 @@ std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoCol
 
     auto metadata = std::make_unique<draco::GeometryMetadata>();
     metadata->AddEntryDoubleArray(draco_origin_entry, {mesh.origin[0], mesh.origin[1], mesh.origin[2]});
+    for (int a = 0; a < 3; ++a) metadata->AddEntryDouble(draco_origin_axis_entries[a], mesh.origin[a]);
     if (mesh.cell_size > 0) metadata->AddEntryDouble(draco_cell_size_entry, mesh.cell_size);
     out.AddMetadata(std::move(metadata));
 
     draco::Encoder encoder;
     encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, bits);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, options.normal_bits);
     encoder.SetSpeedOptions(10 - options.level, 10 - options.level);
     draco::EncoderBuffer buffer;
     const draco::Status status = encoder.EncodeMeshToBuffer(out, &buffer);

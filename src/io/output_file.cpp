@@ -77,16 +77,33 @@ void OutputFile::write(const void* data, std::size_t size) {
     if (size && std::fwrite(data, 1, size, file_) != size) fail("writing");
 }
 
-void OutputFile::commit() {
+void OutputFile::finish() {
+    if (!file_) return;
     if (std::fflush(file_) != 0) fail("writing");
     const int closed = std::fclose(file_);
     file_ = nullptr;
     if (closed != 0) fail("closing");
+}
+
+void OutputFile::commit() {
+    finish();
     // Under the lock, so once remove_unfinished_outputs() has started no output appears.
     std::lock_guard lock(unfinished().mutex);
     if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail("renaming " + temporary_ + " to it");
     forget(temporary_);
     committed_ = true;
+}
+
+void commit_all(const std::vector<std::unique_ptr<OutputFile>>& files) {
+    for (const auto& file : files) file->finish();
+    std::size_t renamed = 0;
+    try {
+        for (; renamed < files.size(); ++renamed) files[renamed]->commit();
+    } catch (const Error&) {
+        // Undo: the run fails, so none of its outputs may stay (a file it replaced is gone, though).
+        for (std::size_t i = 0; i < renamed; ++i) std::remove(files[i]->path().c_str());
+        throw;
+    }
 }
 
 void remove_unfinished_outputs() {

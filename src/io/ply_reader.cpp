@@ -187,12 +187,14 @@ Mesh read_ply(const std::string& path) {
         const bool vertex = e.name == "vertex", face = e.name == "face";
         static const char* const xyz_names[] = {"x", "y", "z"};
         static const char* const rgb_names[] = {"red", "green", "blue"};
-        int xyz[3] = {-1, -1, -1}, rgb[3] = {-1, -1, -1}, indices = -1;
+        static const char* const normal_names[] = {"nx", "ny", "nz"};
+        int xyz[3] = {-1, -1, -1}, rgb[3] = {-1, -1, -1}, nxyz[3] = {-1, -1, -1}, indices = -1;
         for (int i = 0; i < static_cast<int>(e.properties.size()); ++i) {
             const std::string& n = e.properties[i].name;
             for (int a = 0; a < 3; ++a) {
                 if (n == xyz_names[a]) xyz[a] = i;
                 if (n == rgb_names[a]) rgb[a] = i;
+                if (n == normal_names[a]) nxyz[a] = i;
             }
             if (n == "vertex_indices" || n == "vertex_index") indices = i;
         }
@@ -202,6 +204,7 @@ Mesh read_ply(const std::string& path) {
             if (e.count > (1ull << 32) - 1) body.fail("more than 2^32 - 1 vertices");
             mesh.positions.resize(e.count);
             if (rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0) mesh.colors.resize(e.count);
+            if (nxyz[0] >= 0 && nxyz[1] >= 0 && nxyz[2] >= 0) mesh.normals.resize(e.count);
         }
         if (face && indices < 0) body.fail("the face element has no vertex_indices list");
         std::vector<std::uint32_t> polygon;
@@ -215,6 +218,7 @@ Mesh read_ply(const std::string& path) {
                         for (int a = 0; a < 3; ++a) {
                             if (i == xyz[a]) mesh.positions[r][a] = static_cast<float>(v);
                             if (i == rgb[a] && !mesh.colors.empty()) mesh.colors[r][a] = to_8bit(v, p.type);
+                            if (i == nxyz[a] && !mesh.normals.empty()) mesh.normals[r][a] = static_cast<float>(v);
                         }
                     continue;
                 }

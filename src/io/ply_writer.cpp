@@ -25,6 +25,7 @@ std::string header(const Mesh& mesh, bool ascii) {
     if (mesh.cell_size > 0) h += "comment cell_size " + shortest(mesh.cell_size) + "\n";
     h += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
     h += "property float x\nproperty float y\nproperty float z\n";
+    if (!mesh.normals.empty()) h += "property float nx\nproperty float ny\nproperty float nz\n";
     if (!mesh.colors.empty()) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     h += "element face " + std::to_string(mesh.triangles.size()) + "\n";
     h += "property list uchar int vertex_indices\nend_header\n";
@@ -35,8 +36,13 @@ std::string header(const Mesh& mesh, bool ascii) {
 
 void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
     OutputFile out(path);
+    write_ply(mesh, out, ascii);
+    out.commit();
+}
+
+void write_ply(const Mesh& mesh, OutputFile& out, bool ascii) {
     out.write(header(mesh, ascii));
-    const bool color = !mesh.colors.empty();
+    const bool color = !mesh.colors.empty(), normal = !mesh.normals.empty();
     std::string block;
     auto flush = [&](bool force) {
         if (force || block.size() > (1u << 20)) {
@@ -53,12 +59,17 @@ void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
                 end = std::to_chars(end, text + sizeof text, p[c]).ptr;
                 *end++ = ' ';
             }
+            for (int c = 0; c < 3 && normal; ++c) {
+                end = std::to_chars(end, text + sizeof text, mesh.normals[v][c]).ptr;
+                *end++ = ' ';
+            }
             if (color)
                 end += std::snprintf(end, 16, "%d %d %d ", mesh.colors[v][0], mesh.colors[v][1], mesh.colors[v][2]);
             end[-1] = '\n';
             block.append(text, end);
         } else {
             block.append(reinterpret_cast<const char*>(p.data()), 12);
+            if (normal) block.append(reinterpret_cast<const char*>(mesh.normals[v].data()), 12);
             if (color) block.append(reinterpret_cast<const char*>(mesh.colors[v].data()), 3);
         }
         flush(false);
@@ -75,7 +86,6 @@ void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
         flush(false);
     }
     flush(true);
-    out.commit();
 }
 
 } // namespace lasmesh

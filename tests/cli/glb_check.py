@@ -2,8 +2,9 @@
 """Checks a .glb as lasmesh writes it, independently of lasmesh's own reader: the GLB container
 (header, 4-byte aligned JSON and BIN chunks), the glTF 2.0 members a Draco-compressed mesh needs
 (KHR_draco_mesh_compression used and required, accessors without bufferView, POSITION bounds,
-normalized 16-bit COLOR_0, the Z-up to Y-up node). Writes the primitive's Draco bytes to DRACO_OUT
-and prints the mesh origin (the node translation turned back to Z-up), the POSITION count and the
+normalized 16-bit COLOR_0, the Z-up to Y-up node), or a plain file's aligned buffer views; the
+origin in extras, names, double-sided material. For a Draco file, writes the primitive's Draco
+bytes to DRACO_OUT. Prints the mesh origin (the node translation turned back to Z-up), the POSITION count and the
 index count.
 Usage: glb_check.py FILE.glb DRACO_OUT"""
 import json
@@ -26,24 +27,39 @@ binary = data[bin_at + 8 :]
 
 assert gltf["asset"]["version"] == "2.0"
 ext = "KHR_draco_mesh_compression"
-assert ext in gltf["extensionsUsed"] and ext in gltf["extensionsRequired"]
+draco_file = ext in gltf.get("extensionsUsed", [])
+if draco_file:
+    assert ext in gltf["extensionsUsed"] and ext in gltf["extensionsRequired"]
 scene = gltf["scenes"][gltf.get("scene", 0)]
 assert scene["nodes"] == [0]
 node = gltf["nodes"][0]
 h = math.sqrt(0.5)
 assert all(abs(a - b) < 1e-12 for a, b in zip(node["rotation"], [-h, 0, 0, h])), node["rotation"]
-t = node["translation"]
+# The origin: in the extras (LAS axes) and, with --glb-origin node, as the translation (glTF axes).
+extras = node.get("extras", {})
+if "origin" in extras:
+    o = extras["origin"]
+    assert scene["extras"]["origin"] == o
+    assert extras["origin_gltf"] == [o[0], o[2], -o[1]]
+    t = node.get("translation", extras["origin_gltf"])
+    assert t == extras["origin_gltf"], (t, extras["origin_gltf"])
+else:
+    t = node["translation"]
 assert len(t) == 3
+# Named after the input, double-sided.
+assert node.get("name") and gltf["meshes"][node["mesh"]].get("name") == node["name"], node
 
 mesh = gltf["meshes"][node["mesh"]]
 assert len(mesh["primitives"]) == 1
 primitive = mesh["primitives"][0]
 assert primitive.get("mode", 4) == 4
+assert gltf["materials"][primitive["material"]].get("doubleSided") is True
 material = gltf["materials"][primitive["material"]]["pbrMetallicRoughness"]
 assert material["metallicFactor"] == 0 and material["roughnessFactor"] == 1
-draco = primitive["extensions"][ext]
-assert set(draco["attributes"]) == set(primitive["attributes"]), "extension and primitive attributes differ"
 accessors = gltf["accessors"]
+if draco_file:
+    draco = primitive["extensions"][ext]
+    assert set(draco["attributes"]) == set(primitive["attributes"]), "extension and primitive attributes differ"
 position = accessors[primitive["attributes"]["POSITION"]]
 assert position["componentType"] == 5126 and position["type"] == "VEC3"
 assert len(position["min"]) == 3 and len(position["max"]) == 3
@@ -52,8 +68,19 @@ if "COLOR_0" in primitive["attributes"]:
     color = accessors[primitive["attributes"]["COLOR_0"]]
     assert color["componentType"] == 5123 and color.get("normalized") is True and color["type"] == "VEC3"
     assert color["count"] == position["count"]
+if "NORMAL" in primitive["attributes"]:
+    normal = accessors[primitive["attributes"]["NORMAL"]]
+    assert normal["componentType"] == 5126 and normal["type"] == "VEC3" and normal["count"] == position["count"]
 indices = accessors[primitive["indices"]]
 assert indices["componentType"] in (5121, 5123, 5125) and indices["type"] == "SCALAR" and indices["count"] % 3 == 0
+# 16-bit indices whenever they fit (assimp reads only those from a Draco primitive).
+assert (indices["componentType"] == 5123) == (position["count"] <= 65535), (indices["componentType"], position["count"])
+if not draco_file:  # plain: every accessor in its own 4-byte aligned view of the BIN chunk
+    for a in accessors:
+        v = gltf["bufferViews"][a["bufferView"]]
+        assert v.get("byteOffset", 0) % 4 == 0 and v["byteOffset"] + v["byteLength"] <= bin_length
+    print(f"{t[0]!r},{-t[2]!r},{t[1]!r} {position['count']} {indices['count']}")
+    sys.exit(0)
 for a in accessors:
     assert "bufferView" not in a, "a Draco accessor with a bufferView"
 

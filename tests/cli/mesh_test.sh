@@ -49,8 +49,9 @@ import struct, sys
 f = open(sys.argv[1], "rb"); header = []
 while header[-1:] != ["end_header"]: header.append(f.readline().decode().strip())
 n = int(next(h for h in header if h.startswith("element vertex")).split()[2])
-data = f.read(15 * n)
-print(max(struct.unpack_from("<f", data, 15 * v + 8)[0] for v in range(n)))' "$1"; }
+stride = 12 + 12 * ("property float nx" in header) + 3 * ("property uchar red" in header)
+data = f.read(stride * n)
+print(max(struct.unpack_from("<f", data, stride * v + 8)[0] for v in range(n)))' "$1"; }
 check "outlier clusters removed" python3 -c "assert 7.0 < $(top "$dir/clean.ply") < 8.5"
 check "summary counts the removed pieces" contains "$dir/summary.txt" "3 removed"
 "$lasmesh" "$dir/d.las" -o "$dir/x.ply" --min-piece 5%% 2> /dev/null; rc=$?

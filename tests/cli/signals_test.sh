@@ -16,7 +16,7 @@ lines = data[:end].decode().splitlines()
 assert lines[0] == "ply" and lines[1] == "format binary_little_endian 1.0", lines[:2]
 vertices = int(next(l for l in lines if l.startswith("element vertex")).split()[2])
 faces = int(next(l for l in lines if l.startswith("element face")).split()[2])
-vertex_size = 12 + (3 if "property uchar red" in lines else 0)
+vertex_size = 12 + (12 if "property float nx" in lines else 0) + (3 if "property uchar red" in lines else 0)
 at = end + vertices * vertex_size
 for _ in range(faces):  # each face: a uchar count, then that many int32 indices
     at += 1 + 4 * data[at]

@@ -11,16 +11,22 @@ namespace lasmesh {
 struct DracoOptions {
     int position_bits = 0; // position quantization, 1-30; 0: automatic_position_bits(mesh)
     int level = 7;         // 0 (fastest) to 10 (smallest); Draco's encoding speed is 10 - level
+    // Normal quantization in bits (Draco's octahedral coding): 10 keeps them within ~0.2 degrees.
+    int normal_bits = 10;
 };
 
 // Draco geometry metadata entries: "origin", 3 doubles, the world coordinates of the local frame
-// (add them to the positions); "cell_size", a double, the grid cell edge (absent when unknown).
+// (add them to the positions); the same as three scalar doubles "origin_x", "origin_y",
+// "origin_z", which Draco's JavaScript decoder can read (it has no getter for double arrays);
+// "cell_size", a double, the grid cell edge (absent when unknown).
 inline constexpr const char* draco_origin_entry = "origin";
+inline constexpr const char* draco_origin_axis_entries[3] = {"origin_x", "origin_y", "origin_z"};
 inline constexpr const char* draco_cell_size_entry = "cell_size";
 
 // Unique ids of the attributes in every stream lasmesh writes (the .glb's extension names them).
 inline constexpr int draco_position_id = 0;
 inline constexpr int draco_color_id = 1;
+inline constexpr int draco_normal_id = 2;
 
 // The largest extent of the positions' bounding box: the range Draco quantizes over (0: none).
 double position_range(const Mesh& mesh);
@@ -42,7 +48,8 @@ int position_bits(const Mesh& mesh, const DracoOptions& options);
 enum class DracoColor { srgb8, linear16 };
 
 // The mesh as a Draco bitstream (edgebreaker; sequential at level 0): POSITION (float xyz,
-// quantized), COLOR (3 components) when the mesh has colour, triangles, and the metadata above.
+// quantized), NORMAL (float xyz, quantized) when the mesh has normals, COLOR (3 components) when
+// it has colour, triangles, and the metadata above.
 // Throws Error (output) when Draco refuses the mesh, e.g. one without triangles.
 std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoColor color = DracoColor::srgb8);
 

@@ -5,7 +5,9 @@
 #include <cstddef>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace lasmesh {
 
@@ -19,8 +21,12 @@ public:
 
     void write(const void* data, std::size_t size); // throws Error (output), e.g. on a full disk
     void write(const std::string& text) { write(text.data(), text.size()); }
-    // Flushes, closes and renames the file to its final path; throws Error (output).
+    // Flushes and closes the temporary file (the step where a full disk shows); throws Error
+    // (output). Nothing is renamed yet.
+    void finish();
+    // finish(), then renames the file to its final path; throws Error (output).
     void commit();
+    const std::string& path() const { return path_; }
 
 private:
     [[noreturn]] void fail(const std::string& doing);
@@ -28,6 +34,11 @@ private:
     std::FILE* file_ = nullptr;
     bool committed_ = false;
 };
+
+// Several outputs of one run, all or none: every file is finished first (so a full disk fails
+// before any rename), then each renamed; when a rename fails, those already renamed are removed
+// again. Throws Error (output).
+void commit_all(const std::vector<std::unique_ptr<OutputFile>>& files);
 
 // Removes the temporary file of every OutputFile not yet committed and blocks any further
 // create or commit, for good: for a termination signal's cleanup right before the process exits

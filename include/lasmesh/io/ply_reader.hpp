@@ -9,6 +9,7 @@
 namespace lasmesh {
 
 // Reads `path`. Vertex x, y, z are required; red, green, blue are read when present (8-bit;
+// nx, ny, nz too, as they are;
 // wider types are scaled to 8 bits); faces come from the list property "vertex_indices" (or
 // "vertex_index"). lasmesh's own `comment origin X Y Z` and `comment cell_size H` are restored
 // into the mesh. Throws Error (input) naming the file, the byte offset and what was expected.
