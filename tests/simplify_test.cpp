@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -38,7 +40,7 @@ Mesh sheet(int n = 100) {
 // A closed, outward-wound sphere of radius 2 around the origin, marched on a 96^3 grid (the
 // triangles the pipeline simplifies), coloured per vertex.
 Mesh sphere() {
-    DensityGrid g;
+    test::DenseCells g;
     const std::uint32_t n = 96;
     g.spec.dims = {n, n, n};
     g.spec.cell_size = 5.0 / n;

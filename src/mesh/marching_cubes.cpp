@@ -3,6 +3,7 @@
 #include "lasmesh/mesh/marching_cubes.hpp"
 
 #include "lasmesh/error.hpp"
+#include "lasmesh/mesh/normals.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -58,11 +59,6 @@ struct DensityField {
         const double surface = std::min(std::max(level, 0.5 * (inside + beyond)), inside - 0.1 * (inside - outside));
         return (surface - v0) / (v1 - v0);
     }
-    // Minus the count's gradient at a lattice point: from dense towards empty.
-    std::array<double, 3> outward(std::int64_t x, std::int64_t y, std::int64_t z) const {
-        return {value(x - 1, y, z) - value(x + 1, y, z), value(x, y - 1, z) - value(x, y + 1, z),
-                value(x, y, z - 1) - value(x, y, z + 1)};
-    }
     void vertex(const std::array<std::int64_t, 3>& p, int axis, const detail::FieldSample& s0,
                 const detail::FieldSample& s1, detail::VertexOut& out) const {
         const std::array<std::int64_t, 3> q{p[0] + (axis == 0), p[1] + (axis == 1), p[2] + (axis == 2)};
@@ -71,16 +67,6 @@ struct DensityField {
         const double h = grid.spec.cell_size;
         // Lattice point p is the centre of cell p - 1: at (p - 0.5) cells from the origin.
         for (int c = 0; c < 3; ++c) out.position[c] = static_cast<float>((p[c] - 0.5 + (c == axis ? t : 0.0)) * h);
-        const auto g0 = outward(p[0], p[1], p[2]), g1 = outward(q[0], q[1], q[2]);
-        std::array<double, 3> n{};
-        for (int c = 0; c < 3; ++c) n[c] = (1 - t) * g0[c] + t * g1[c];
-        double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(length > 0)) { // a flat gradient: the edge itself, from inside to outside
-            n = {0, 0, 0};
-            n[axis] = s0.inside ? 1 : -1;
-            length = 1;
-        }
-        for (int c = 0; c < 3; ++c) out.normal[c] = static_cast<float>(n[c] / length);
         if (grid.has_color()) {
             const CellSums* c0 = grid.find(p[0] - 1, p[1] - 1, p[2] - 1);
             const CellSums* c1 = grid.find(q[0] - 1, q[1] - 1, q[2] - 1);
@@ -107,6 +93,8 @@ double automatic_iso(const DensityGrid& grid) {
 Mesh extract_isosurface(const DensityGrid& grid, double iso, VertexPlacement placement) {
     const DensityField field(grid, iso, placement);
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points), grid.has_color());
+    // A count field's gradient is too noisy for shading: the faces' normals instead.
+    compute_vertex_normals(mesh);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;

@@ -2,6 +2,7 @@
 // signed distance at the cell corners and contoured by sparse marching cubes.
 #include "lasmesh/mesh/surface_sheet.hpp"
 
+#include "lasmesh/mesh/normals.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -253,8 +254,9 @@ struct SheetField {
     void vertex(const std::array<std::int64_t, 3>& p, int axis, const detail::FieldSample& a,
                 const detail::FieldSample& b, detail::VertexOut& out) const {
         // Linear interpolation puts the vertex on the plane when both corners share it; kept a
-        // hundredth of the edge from either corner so that no triangle collapses.
-        const double t = std::clamp(static_cast<double>(a.value) / (static_cast<double>(a.value) - b.value), 0.01, 0.99);
+        // tenth of the edge from either corner, so that no triangle shrinks below what the
+        // outputs' quantization (a tenth of a cell by default) keeps apart.
+        const double t = std::clamp(static_cast<double>(a.value) / (static_cast<double>(a.value) - b.value), 0.1, 0.9);
         for (int c = 0; c < 3; ++c) out.position[c] = static_cast<float>((static_cast<double>(p[c]) + (c == axis ? t : 0.0)) * h);
         const Vec& na = planes.normal[a.source];
         const Vec& nb = planes.normal[b.source];
@@ -278,6 +280,7 @@ Mesh extract_sheet(const DensityGrid& grid, double iso) {
     orient_normals(planes);
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points, 1), grid.has_color());
+    agree_normals_with_faces(mesh);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;

@@ -15,7 +15,7 @@ ply_count() { sed -n "s/^element $2 //p" "$1" | head -n 1; }
 faces=$(ply_count "$dir/deck.ply" face) vertices=$(ply_count "$dir/deck.ply" vertex)
 check "summary mentions normals" contains "$dir/summary.txt" "triangles, coloured, normals"
 read -r lo hi < <(bounds "$dir/deck.las")
-check "PLY has unit normals that agree with the winding" python3 "$here/ply_check.py" "$dir/deck.ply" "$lo" "$hi" 0.51
+check "PLY has unit normals that agree with the winding" env OPEN=1 python3 "$here/ply_check.py" "$dir/deck.ply" "$lo" "$hi" 0.51
 read -r origin positions indices < <(python3 "$here/glb_check.py" "$dir/deck.glb" "$dir/unused.drc")
 check "plain .glb passes glb_check.py" test -n "${indices:-}"
 check "plain .glb has the PLY's faces and vertices" test "$((indices / 3)) $positions" = "$faces $vertices"

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     if (argc != 3) return 1;
     lasmesh::BuildOptions options;
     options.grid.dims = {32, 0, 0}; // a coarse grid: the test scene is small
+    options.surface = lasmesh::SurfaceKind::closed; // a watertight solid, checked below
     options.outputs.push_back({argv[2], lasmesh::MeshFormat::ply});
     options.keep_mesh = true;
     const lasmesh::BuildResult result = lasmesh::build_mesh(argv[1], options);

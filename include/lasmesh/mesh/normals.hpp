@@ -11,4 +11,9 @@ namespace lasmesh {
 // around it (unreferenced, or only degenerate faces) gets (0, 0, 1): viewers need unit length.
 void compute_vertex_normals(Mesh& mesh);
 
+// Keeps the mesh's own normals (from the surface it was extracted from: smoother than the
+// faces') except where one points away from the faces around its vertex, which a viewer would
+// shade inside out: there, the faces' area-weighted normal replaces it.
+void agree_normals_with_faces(Mesh& mesh);
+
 } // namespace lasmesh
