@@ -72,6 +72,7 @@ struct OutputReport {
 struct RunReport {
     std::string input, device;         // the input's name ("standard input" for -), the device's
     std::uint64_t points_read = 0, points_outside = 0;
+    std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
     double iso = 0;
     bool iso_auto = false;

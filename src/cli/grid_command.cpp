@@ -19,6 +19,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     AccumulateOptions accumulate = accumulate_options(options.grid);
     if (options.grid.scan_bounds) accumulate.bounds = scan_bounds(options.input);
     LasReader reader(options.input);
+    if (!accumulate.bounds) check_header_bounds_usable(reader.header(), reader.stream().name());
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();
     const DensityGrid grid = accumulate_density(reader, device, accumulate);

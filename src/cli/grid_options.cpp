@@ -24,14 +24,14 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         ->capture_default_str();
     command.add_option("--chunk-mb", o.chunk_mb, "Largest slice of records uploaded at once, MiB (default 16, "
                                                  "always under the device's largest allocation)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     command.add_option("--max-memory", o.max_memory_mb, "Refuse grids needing more than this, MiB, host and device together")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
 }
 
 AccumulateOptions accumulate_options(const GridOptions& o) {
     AccumulateOptions a;
-    a.grid = o.voxel > 0 ? voxel_request(o.voxel) : parse_grid_request(o.grid);
+    a.grid = o.voxel ? voxel_request(*o.voxel) : parse_grid_request(o.grid);
     if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);

@@ -5,13 +5,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 namespace lasmesh::cli {
 
 struct GridOptions {
     std::string grid = "256";
-    double voxel = 0;
+    std::optional<double> voxel; // given: checked, even when 0 or negative
     std::string bounds;
     bool scan_bounds = false;
     std::string device = "auto";

@@ -4,6 +4,7 @@
 
 #include "lasmesh/error.hpp"
 #include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/same_file.hpp"
 #include "mesh_observer.hpp"
 #include "mesh_report.hpp"
 #include "option_parsing.hpp"
@@ -64,6 +65,10 @@ BuildOptions build_options(const MeshOptions& o) {
         b.outputs.push_back({path, *format, o.ascii, o.draco});
     }
     if (!o.report.empty()) check_output_folder(o.report);
+    std::vector<std::pair<std::string, std::string>> paths{{"the input", o.input}};
+    for (const std::string& path : o.outputs) paths.emplace_back("-o", path);
+    if (!o.report.empty()) paths.emplace_back("--report", o.report);
+    check_distinct_files(paths);
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
     b.bounds = accumulate.bounds;

@@ -7,6 +7,8 @@
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <string>
 
 namespace lasmesh::cli {
@@ -23,5 +25,9 @@ double parse_iso(const std::string& text);
 VertexPlacement parse_placement(const std::string& text);
 // "--min-piece": "5%" (of the mesh diagonal), "2.5" (file units) or "0" (keep all).
 MinPiece parse_min_piece(const std::string& text);
+
+// A check for options that take a positive, finite number. CLI11's PositiveNumber says "not in
+// range 2.2250738585072014e-308 to 1.7976931348623157e+308"; this says what is wanted.
+CLI::Validator positive_number();
 
 } // namespace lasmesh::cli

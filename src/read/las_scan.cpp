@@ -10,7 +10,10 @@ namespace lasmesh {
 ScanResult scan_points(LasReader& reader, std::size_t chunk_records) {
     const PointDecoder decoder(reader.header());
     const std::size_t length = decoder.record_length;
-    std::vector<std::byte> chunk(std::max<std::size_t>(chunk_records, 1) * length);
+    // Bounded in bytes too: 65,536 records of a 65,535-byte record length would be 4 GB.
+    constexpr std::size_t max_chunk_bytes = std::size_t{16} << 20;
+    const std::size_t records = std::clamp<std::size_t>(chunk_records, 1, std::max<std::size_t>(1, max_chunk_bytes / length));
+    std::vector<std::byte> chunk(records * length);
 
     RawXYZ raw_min;
     RawXYZ raw_max;
