@@ -3,6 +3,7 @@
 #include "lasmesh/build_mesh.hpp"
 
 #include "lasmesh/error.hpp"
+#include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/output_file.hpp"
@@ -114,6 +115,12 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     if (header.point_count == 0)
         throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
     if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
+    if (o.auto_grid) {
+        const Bounds box = accumulate.bounds ? *accumulate.bounds : Bounds{header.min, header.max};
+        const GridChoice choice = choose_grid(header.point_count, box, reader.stream().name());
+        accumulate.grid = choice.request;
+        r.grid_reason = "auto: " + choice.reason;
+    }
     ComputeDevice device(o.device);
     r.input = reader.stream().name();
     r.device = device.info().name;

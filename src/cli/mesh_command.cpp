@@ -19,6 +19,7 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
                    ".drc (Draco), .glb (glTF 2.0 binary, Draco-compressed)");
+    o.grid.grid = "auto"; // real scans mesh by default: the cell follows the points' density
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
@@ -71,6 +72,7 @@ BuildOptions build_options(const MeshOptions& o) {
     check_distinct_files(paths);
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
+    b.auto_grid = grid_is_auto(o.grid);
     b.bounds = accumulate.bounds;
     b.slice_bytes = accumulate.slice_bytes;
     b.max_memory = accumulate.max_memory;

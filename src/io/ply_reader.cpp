@@ -201,7 +201,8 @@ Mesh read_ply(const std::string& path) {
         for (const Element& e : elements)
             if (!e.properties.empty() && __builtin_add_overflow(least, e.count, &least)) least = UINT64_MAX;
         if (least > bytes.size() - at)
-            throw Error(ErrorKind::input, path + ": the PLY header declares elements that need at least " +
+            throw Error(ErrorKind::input, path + ": byte " + std::to_string(at) +
+                                              ": the PLY header declares elements that need at least " +
                                               std::to_string(least) + " bytes, but only " +
                                               std::to_string(bytes.size() - at) + " follow it (truncated or damaged file)");
     }

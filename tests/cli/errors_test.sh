@@ -205,7 +205,7 @@ expect_exactly "compare --samples 2^34 with a lying count" 2 'huge-count.las: en
   "ulimit -v 3000000; $L compare m.ply huge-count.las --samples 17179869184"
 expect_exactly "compare --mesh-samples too many" 1 '--mesh-samples' "$L compare m.ply ok.las --mesh-samples 4294967296"
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4294967295\nproperty float x\nproperty float y\nproperty float z\nend_header\n' > many.ply
-expect_exactly "PLY declaring 2^32-1 vertices in a tiny file" 2 'many.ply: the PLY header declares elements that need at least 4294967295 bytes, but only 0 follow it' "$L compare many.ply ok.las"
+expect_exactly "PLY declaring 2^32-1 vertices in a tiny file" 2 'many.ply: byte 124: the PLY header declares elements that need at least 4294967295 bytes, but only 0 follow it' "$L compare many.ply ok.las"
 
 # Exit codes and messages.
 expect "--device with 20 digits" 1 '--device 99999999999999999999: there are' "$L ok.las --device 99999999999999999999"
