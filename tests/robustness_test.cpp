@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -108,21 +109,25 @@ TEST_CASE("same_file: by inode for existing files, by folder and name for new on
 }
 
 TEST_CASE("cell starts along an axis: one-ulp bounds at a huge offset take no time") {
+    // Offset 1e15 (one ulp: 0.125) and scale 1e-12: every raw value maps to 1e15 itself, so a
+    // search walking from an estimate went through 2^31 raw values per cell face.
     GridSpec grid;
-    grid.origin = {1e9, 1e9, 1e9};
-    grid.cell_size = 1.2e-7 / 16; // the whole grid inside one ulp of 1e9
+    grid.origin = {1e15, 1e15, 1e15};
+    grid.cell_size = 0.125 / 16;
     grid.dims = {16, 16, 16};
+    const double scale = 1e-12, offset = 1e15;
     const auto start = std::chrono::steady_clock::now();
-    const AxisCells cells = axis_cells(grid, 0, 1e-9, 1e9);
+    const AxisCells cells = axis_cells(grid, 0, scale, offset);
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(1));
     REQUIRE(cells.starts.size() == 17);
     for (std::size_t i = 1; i < cells.starts.size(); ++i) CHECK(cells.starts[i - 1] <= cells.starts[i]);
-    // Each start is the first raw value at or past its cell's lower face.
-    auto world = [](std::int64_t raw) { return static_cast<double>(raw) * 1e-9 + 1e9; };
+    // Each start is the first raw value at or past its cell's lower face (or the int32 range's end).
+    auto world = [&](std::int64_t raw) { return static_cast<double>(raw) * scale + offset; };
     for (std::uint32_t i = 0; i < 16; ++i) {
         const double face = grid.origin[0] + i * grid.cell_size;
-        CHECK(world(cells.starts[i]) >= face);
-        CHECK_FALSE(world(cells.starts[i] - 1) >= face);
+        const std::int64_t s = cells.starts[i];
+        if (s <= std::numeric_limits<std::int32_t>::max()) CHECK(world(s) >= face);
+        if (s > std::numeric_limits<std::int32_t>::min()) CHECK_FALSE(world(s - 1) >= face);
     }
 }
 

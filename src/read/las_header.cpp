@@ -63,6 +63,12 @@ std::string printable(const std::byte* at, std::size_t size) {
     return text;
 }
 
+// The shortest text that reads back as `value`: 1e+300, not the 301 digits of std::to_string.
+std::string shortest(double value) {
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+}
+
 [[noreturn]] void refuse_laz(const InputStream& in, const std::string& why) {
     throw_input_error(in.name(),
                       "is LAZ (compressed LAS): " + why +
@@ -176,8 +182,7 @@ LasHeader read_las_header(InputStream& in) {
         for (int i = 0; i < 3; ++i)
             if (h.min[i] > h.max[i])
                 throw_input_error(in.name(), std::string("header bounds are inverted: min ") + "XYZ"[i] +
-                                                 " " + std::to_string(h.min[i]) + " > max " +
-                                                 std::to_string(h.max[i]) +
+                                                 " " + shortest(h.min[i]) + " > max " + shortest(h.max[i]) +
                                                  " (bytes 179-226): the header is damaged; rewrite its bounds from the points, e.g. "
                                                  "with `lasinfo -repair_bb`");
 
@@ -225,10 +230,7 @@ LasHeader read_las_header(InputStream& in) {
 }
 
 void check_header_bounds_usable(const LasHeader& h, const std::string& name) {
-    auto text = [](double v) {
-        char buffer[32];
-        return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
-    };
+    auto text = shortest;
     for (int a = 0; a < 3; ++a) {
         const std::string field = std::string("header bounds min/max ") + "XYZ"[a] + " (bytes " +
                                   std::to_string(179 + 16 * a) + "-" + std::to_string(194 + 16 * a) + ": " +
