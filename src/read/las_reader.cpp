@@ -14,7 +14,8 @@ LasHeader read_header(InputStream& stream) {
     try {
         return read_las_header(stream);
     } catch (const Error&) {
-        if (stream.compression() != Compression::none) stream.drain(); // throws the codec's error
+        // Bounded: a large stream of something else need not be decoded to its end for this.
+        if (stream.compression() != Compression::none) stream.skip(std::uint64_t{64} << 20); // throws the codec's error
         throw;
     }
 }
@@ -47,7 +48,8 @@ std::size_t LasReader::read_records(std::span<std::byte> dst) {
 
 std::string trailing_warning(const LasReader& reader) {
     const std::uint64_t bytes = reader.trailing_bytes(), length = reader.header().point_record_length;
-    if (bytes == 0) return "";
+    // LAS 1.3 waveform packets and 1.4 extended VLRs belong after the records: not a warning.
+    if (bytes == 0 || reader.header().start_after_points != 0) return "";
     return "warning: " + reader.stream().name() + ": " + std::to_string(bytes) + " bytes (" +
            std::to_string(bytes / length) + " whole records of " + std::to_string(length) + " bytes) follow the " +
            std::to_string(reader.header().point_count) +
