@@ -3,9 +3,11 @@
 #include "lasmesh/build_mesh.hpp"
 
 #include "lasmesh/error.hpp"
+#include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/same_file.hpp"
 #include "lasmesh/io/ply_writer.hpp"
 #include "lasmesh/mesh/normals.hpp"
 #include "lasmesh/read/las_scan.hpp"
@@ -128,6 +130,9 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     BuildObserver& watch = observer ? *observer : silent;
     if (o.outputs.empty() && !o.keep_mesh) throw Error(ErrorKind::usage, "no output requested: nothing to do");
     for (const OutputRequest& output : o.outputs) check_output_folder(output.path); // before reading
+    std::vector<std::pair<std::string, std::string>> paths{{"the input", input}};
+    for (const OutputRequest& output : o.outputs) paths.emplace_back("the output", output.path);
+    check_distinct_files(paths);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -141,8 +146,21 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     accumulate.max_memory = o.max_memory;
     LasReader reader(input);
     // An empty mesh is no use and Draco cannot encode one: say so before any device work.
-    if (reader.header().point_count == 0)
+    const LasHeader& header = reader.header();
+    if (header.point_count == 0 && header.version_minor >= 4 && header.legacy_point_count > 0)
+        throw_input_error(reader.stream().name(),
+                          "the header promises no point records: its 64-bit point count (bytes 247-254) is 0 but "
+                          "its legacy point count (bytes 107-110) is " + std::to_string(header.legacy_point_count) +
+                          ": the header is inconsistent; rewrite it, e.g. with `las2las`");
+    if (header.point_count == 0)
         throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
+    if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
+    if (o.auto_grid) {
+        const Bounds box = accumulate.bounds ? *accumulate.bounds : Bounds{header.min, header.max};
+        const GridChoice choice = choose_grid(header.point_count, box, reader.stream().name());
+        accumulate.grid = choice.request;
+        r.grid_reason = "auto: " + choice.reason;
+    }
     ComputeDevice device(o.device);
     r.input = reader.stream().name();
     r.device = device.info().name;
@@ -160,6 +178,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
     r.occupied_cells = grid.occupied_cells(), r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
+    if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +
                  megabytes(r.pool_bytes) + " of bricks in " +

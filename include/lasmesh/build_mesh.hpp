@@ -66,6 +66,7 @@ struct SimplifyRequest {
 
 struct BuildOptions {
     GridRequest grid;                  // cells along the longest axis, per axis, or a cell edge
+    bool auto_grid = false;            // instead of `grid`: choose_grid from the header (grid/auto_grid.hpp)
     std::optional<Bounds> bounds;      // the region to grid; default: the header bounds
     bool scan_bounds = false;          // read a file twice, first for its points' real bounds
     std::optional<double> iso;         // points per cell at the surface; default: automatic_iso
@@ -92,7 +93,9 @@ struct OutputReport {
 struct RunReport {
     std::string input, device;         // the input's name ("standard input" for -), the device's
     std::uint64_t points_read = 0, points_outside = 0;
+    std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
+    std::string grid_reason;           // why this grid, when auto_grid chose it; empty otherwise
     double iso = 0;
     bool iso_auto = false;
     SurfaceKind surface = SurfaceKind::sheet;

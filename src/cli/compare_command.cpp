@@ -1,11 +1,13 @@
 // `lasmesh compare`: reads the mesh, streams the cloud, prints the distance statistics.
 #include "compare_command.hpp"
+#include "option_parsing.hpp"
 
 #include "json.hpp"
 #include "lasmesh/measure/compare.hpp"
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/io/output_file.hpp"
+#include "lasmesh/io/same_file.hpp"
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/ply_writer.hpp"
 
@@ -55,12 +57,12 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
         ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 34));
     c->add_option("--mesh-samples", o.mesh_samples, "Points sampled on the mesh for the mesh-to-cloud distances")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 32));
+        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000})); // 3.2 GB of samples and distances
     c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud");
     c->add_option("--heatmap-scale", o.heatmap_scale, "Distance shown red in the heat map (default: 2 cells, or the p99)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     c->add_flag("--json", o.json, "One JSON object instead of text");
     c->footer("Examples:\n  lasmesh compare deck.ply deck.las\n  lasmesh compare deck.drc deck.las --json --samples 1000000\n"
               "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
@@ -68,7 +70,10 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
 }
 
 void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream& log) {
-    if (!o.heatmap.empty()) check_output_folder(o.heatmap);
+    if (!o.heatmap.empty()) {
+        check_output_folder(o.heatmap);
+        check_distinct_files({{"the mesh", o.mesh}, {"the input", o.input}, {"--heatmap", o.heatmap}});
+    }
     Mesh mesh = read_mesh(o.mesh);
     LasReader cloud(o.input);
     CompareOptions options;

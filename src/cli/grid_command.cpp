@@ -2,6 +2,7 @@
 #include "grid_command.hpp"
 
 #include "json.hpp"
+#include "lasmesh/grid/auto_grid.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +20,14 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     AccumulateOptions accumulate = accumulate_options(options.grid);
     if (options.grid.scan_bounds) accumulate.bounds = scan_bounds(options.input);
     LasReader reader(options.input);
+    if (!accumulate.bounds) check_header_bounds_usable(reader.header(), reader.stream().name());
+    std::string grid_reason;
+    if (grid_is_auto(options.grid)) {
+        const LasHeader& h = reader.header();
+        const GridChoice choice = choose_grid(h.point_count, accumulate.bounds.value_or(Bounds{h.min, h.max}), reader.stream().name());
+        accumulate.grid = choice.request;
+        grid_reason = "auto: " + choice.reason;
+    }
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();
     const DensityGrid grid = accumulate_density(reader, device, accumulate);
@@ -52,7 +61,8 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     }
     out << "device               " << device.info().name << " (" << device.info().type << ")\n"
         << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
-        << " cells of " << format_double(grid.spec.cell_size) << "\n"
+        << " cells of " << format_double(grid.spec.cell_size) << (grid_reason.empty() ? "" : " (" + grid_reason + ")")
+        << "\n"
         << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
         << " " << format_double(grid.spec.origin[2]) << "\n"
         << "points read          " << grid.points_read << "\n"

@@ -11,7 +11,7 @@
 namespace lasmesh::cli {
 
 void add_grid_options(CLI::App& command, GridOptions& o) {
-    command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ; cells are cubes")
+    command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
         ->capture_default_str();
     command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)");
     CLI::Option* bounds =
@@ -24,19 +24,22 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         ->capture_default_str();
     command.add_option("--chunk-mb", o.chunk_mb, "Largest slice of records uploaded at once, MiB (default 16, "
                                                  "always under the device's largest allocation)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     command.add_option("--max-memory", o.max_memory_mb, "Refuse grids needing more than this, MiB, host and device together")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
 }
 
 AccumulateOptions accumulate_options(const GridOptions& o) {
     AccumulateOptions a;
-    a.grid = o.voxel > 0 ? voxel_request(o.voxel) : parse_grid_request(o.grid);
+    if (o.voxel) a.grid = voxel_request(*o.voxel);
+    else if (!grid_is_auto(o)) a.grid = parse_grid_request(o.grid);
     if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);
     return a;
 }
+
+bool grid_is_auto(const GridOptions& o) { return !o.voxel && o.grid == "auto"; }
 
 void check_scan_bounds_input(const std::string& input) {
     // A regular file can be opened again for the second pass; a pipe's bytes are gone.

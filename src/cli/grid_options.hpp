@@ -5,13 +5,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 namespace lasmesh::cli {
 
 struct GridOptions {
-    std::string grid = "256";
-    double voxel = 0;
+    std::string grid = "256"; // the meshing command's default is "auto"
+    std::optional<double> voxel; // given: checked, even when 0 or negative
     std::string bounds;
     bool scan_bounds = false;
     std::string device = "auto";
@@ -21,8 +22,10 @@ struct GridOptions {
 
 void add_grid_options(CLI::App& command, GridOptions& options);
 
-// Checks and converts the options; throws Error (usage) quoting a bad value.
+// Checks and converts the options; throws Error (usage) quoting a bad value. For --grid auto the
+// grid is left at its default: the caller chooses it from the header (grid_is_auto, choose_grid).
 AccumulateOptions accumulate_options(const GridOptions& options);
+bool grid_is_auto(const GridOptions& options); // --grid auto and no --voxel
 
 // --scan-bounds: the bounds of the points of `input` found by reading it once (scan_points), for
 // a second, gridding pass. Throws Error (usage) for standard input or a pipe, which cannot be read

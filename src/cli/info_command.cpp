@@ -15,6 +15,17 @@ std::string join(const Vec3& v) {
     return format_double(v[0]) + " " + format_double(v[1]) + " " + format_double(v[2]);
 }
 
+// Header strings are arbitrary bytes: escape sequences among them would drive the terminal.
+std::string escaped(const std::string& raw) {
+    static const char* hex = "0123456789abcdef";
+    std::string text;
+    for (unsigned char c : raw) {
+        if (c >= 0x20 && c < 0x7F) text += static_cast<char>(c);
+        else text += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    }
+    return text;
+}
+
 std::string join(const Rgb16& v) {
     return std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]);
 }
@@ -58,12 +69,12 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
         << "\noffset               " << join(h.offset)
         << "\nbounds min           " << join(h.min)
         << "\nbounds max           " << join(h.max)
-        << "\nsystem identifier    " << h.system_identifier
-        << "\ngenerating software  " << h.generating_software
+        << "\nsystem identifier    " << escaped(h.system_identifier)
+        << "\ngenerating software  " << escaped(h.generating_software)
         << "\nVLRs                 " << h.vlrs.size() << '\n';
     for (const Vlr& vlr : h.vlrs)
-        out << "  " << vlr.user_id << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
-            << vlr.description << '\n';
+        out << "  " << escaped(vlr.user_id) << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
+            << escaped(vlr.description) << '\n';
     if (scan) {
         out << "scanned point count  " << scan->point_count
             << "\nscanned bounds min   " << join(scan->min)
@@ -76,10 +87,11 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
 
 } // namespace
 
-void run_info(const InfoOptions& options, std::ostream& out) {
+void run_info(const InfoOptions& options, std::ostream& out, std::ostream& log) {
     LasReader reader(options.input);
     std::optional<ScanResult> scan;
     if (options.scan) scan = scan_points(reader, options.chunk_points);
+    if (const std::string warning = trailing_warning(reader); !warning.empty()) log << "lasmesh: " << warning << '\n';
     if (options.json)
         write_json(reader.header(), scan, out);
     else

@@ -15,6 +15,7 @@ struct InfoOptions {
 };
 
 // Writes the report to `out`; throws lasmesh::Error on bad input.
-void run_info(const InfoOptions& options, std::ostream& out);
+// Warnings (records beyond the header's count, found by --scan) go to `log`.
+void run_info(const InfoOptions& options, std::ostream& out, std::ostream& log);
 
 } // namespace lasmesh::cli

@@ -4,6 +4,7 @@
 #include "compare_command.hpp"
 #include "grid_command.hpp"
 #include "info_command.hpp"
+#include "kernel_cache.hpp"
 #include "mesh_command.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
@@ -22,6 +23,7 @@ constexpr int exit_internal_error = 5;
 
 int main(int argc, char** argv) {
     lasmesh::cli::handle_signals(); // before any thread exists
+    lasmesh::cli::use_own_kernel_cache();
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
     app.require_subcommand(0, 1);
@@ -69,11 +71,14 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : static_cast<int>(lasmesh::ErrorKind::usage);
+        if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
+        // One line with our prefix, like every other error, rather than CLI11's two.
+        std::cerr << "lasmesh: " << e.what() << " (see lasmesh --help)\n";
+        return static_cast<int>(lasmesh::ErrorKind::usage);
     }
 
     try {
-        if (*info_command) lasmesh::cli::run_info(info, std::cout);
+        if (*info_command) lasmesh::cli::run_info(info, std::cout, std::cerr);
         if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
         if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);

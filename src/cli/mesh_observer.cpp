@@ -14,9 +14,10 @@ void MeshObserver::stage_started(BuildStage stage, const std::string& what) {
 }
 
 void MeshObserver::stage_ended(BuildStage stage, const RunReport& so_far) {
-    if (stage != BuildStage::read_accumulate || quiet_ || so_far.points_outside == 0) return;
+    if (stage != BuildStage::read_accumulate || quiet_) return;
     progress_.clear();
     out_ << outside_advice(so_far.points_outside, so_far.points_read);
+    for (const std::string& warning : so_far.warnings) out_ << warning << "\n";
 }
 
 void MeshObserver::points_read(std::uint64_t points, std::uint64_t points_total, std::uint64_t bytes,

@@ -45,6 +45,7 @@ void write_report_json(const RunReport& r, const std::string& path) {
     json["points_read"] = r.points_read;
     json["points_outside"] = r.points_outside;
     json["grid"] = {{"dims", r.grid.dims}, {"cell_size", r.grid.cell_size}, {"origin", r.grid.origin}};
+    if (!r.grid_reason.empty()) json["grid"]["reason"] = r.grid_reason;
     json["iso"] = r.iso;
     json["iso_auto"] = r.iso_auto;
     json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
@@ -75,7 +76,7 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "device         " << r.device << "\n"
             << "points         " << r.points_read << " read, " << r.points_outside << " outside the grid\n"
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
-            << format_double(s.cell_size) << "\n"
+            << format_double(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
             << "iso            " << format_double(r.iso) << (r.iso_auto ? " (auto)" : "")
             << " points per cell, "
             << (r.surface == SurfaceKind::sheet ? "one sheet through the points"

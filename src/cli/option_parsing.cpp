@@ -14,6 +14,12 @@ namespace {
 
 [[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
 
+// The shortest text that reads back as `value`: 1e-300, not 300 digits of std::to_string.
+std::string shortest(double value) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
+
 std::uint32_t parse_cells(const std::string& part, const std::string& whole) {
     std::uint32_t value = 0;
     auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
@@ -43,7 +49,7 @@ GridRequest parse_grid_request(const std::string& text) {
 
 GridRequest voxel_request(double cell_size) {
     if (!(cell_size > 0) || !std::isfinite(cell_size))
-        usage_error("--voxel " + std::to_string(cell_size) + ": the cell edge must be a positive number");
+        usage_error("--voxel " + shortest(cell_size) + ": the cell edge must be a positive number");
     GridRequest request;
     request.kind = GridRequest::Kind::voxel_size;
     request.voxel = cell_size;
@@ -123,6 +129,19 @@ GltfOrigin parse_glb_origin(const std::string& text) {
     if (text == "extras") return GltfOrigin::extras;
     if (text == "node") return GltfOrigin::node;
     usage_error("--glb-origin \"" + text + "\": expected extras or node");
+}
+
+CLI::Validator positive_number() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            double value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !(value > 0) ||
+                !std::isfinite(value))
+                return "expected a positive number, got \"" + text + "\"";
+            return "";
+        },
+        "POSITIVE");
 }
 
 } // namespace lasmesh::cli

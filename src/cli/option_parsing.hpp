@@ -8,6 +8,8 @@
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <string>
 
 namespace lasmesh::cli {
@@ -30,5 +32,9 @@ SimplifyRequest parse_simplify(const std::string& text);
 GltfCompression parse_glb_compression(const std::string& text);
 // "--glb-origin": "extras" or "node".
 GltfOrigin parse_glb_origin(const std::string& text);
+
+// A check for options that take a positive, finite number. CLI11's PositiveNumber says "not in
+// range 2.2250738585072014e-308 to 1.7976931348623157e+308"; this says what is wanted.
+CLI::Validator positive_number();
 
 } // namespace lasmesh::cli

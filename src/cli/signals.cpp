@@ -23,6 +23,9 @@ void handle_signals() {
     // before it removes its temporary files: ignored, writes fail with EPIPE instead, and main()
     // reports a failed standard output with exit code 4.
     std::signal(SIGPIPE, SIG_IGN);
+    // Likewise a file size limit (`ulimit -f`): SIGXFSZ would kill the run with a core dump and a
+    // partial temporary file; ignored, write(2) fails with EFBIG and the run ends with exit 4.
+    std::signal(SIGXFSZ, SIG_IGN);
 
     sigset_t termination;
     sigemptyset(&termination);

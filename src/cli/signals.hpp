@@ -1,4 +1,4 @@
-// What the command does on SIGINT, SIGTERM, SIGHUP and SIGPIPE (see signals.cpp).
+// What the command does on SIGINT, SIGTERM, SIGHUP, SIGPIPE and SIGXFSZ (see signals.cpp).
 #pragma once
 
 namespace lasmesh::cli {

@@ -4,6 +4,8 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <cctype>
 
 namespace lasmesh {
@@ -98,7 +100,8 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
             }
         if (!chosen) chosen = &devices.front();
     } else if (!selector.empty() && std::all_of(selector.begin(), selector.end(), ::isdigit)) {
-        const std::size_t index = std::stoul(selector);
+        std::size_t index = 0; // digits too many for size_t leave it out of range, as any large index
+        if (std::from_chars(selector.data(), selector.data() + selector.size(), index).ec != std::errc()) index = SIZE_MAX;
         if (index >= devices.size())
             throw Error(ErrorKind::usage, "--device " + selector + ": there are " + std::to_string(devices.size()) +
                                               " devices (see `lasmesh devices`)");

@@ -4,6 +4,7 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 
@@ -13,13 +14,23 @@ namespace {
 
 [[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
 
+std::string shortest(double value) { // 1e+300, not the 300 digits of std::to_string
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
+
 } // namespace
 
 GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
     GridSpec grid;
     grid.origin = bounds.min;
     Vec3 extent;
-    for (int a = 0; a < 3; ++a) extent[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
+    for (int a = 0; a < 3; ++a) {
+        extent[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
+        if (!std::isfinite(extent[a]))
+            usage_error(std::string("the bounds along ") + "XYZ"[a] + " (" + shortest(bounds.min[a]) + " to " +
+                        shortest(bounds.max[a]) + ") are too wide to grid; give --bounds around the points");
+    }
     const double longest = std::max({extent[0], extent[1], extent[2]});
 
     switch (request.kind) {
@@ -39,7 +50,7 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
         }
         // The cells needed to reach the upper bound; the last cell is closed at its upper face.
         const double cells = std::ceil(extent[a] / grid.cell_size);
-        if (!(cells <= 65536)) usage_error("the grid would need " + std::to_string(cells) +
+        if (!(cells <= 65536)) usage_error("the grid would need " + shortest(cells) +
                                            " cells along one axis; use a larger --voxel or a smaller --grid");
         grid.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));
     }
@@ -57,15 +68,17 @@ AxisCells axis_cells(const GridSpec& grid, int axis, double scale, double offset
     constexpr std::int64_t past_highest = std::int64_t{std::numeric_limits<std::int32_t>::max()} + 1;
     auto world = [&](std::int64_t raw) { return static_cast<double>(raw) * scale + offset; };
     // Smallest raw value whose coordinate passes `limit` (>= limit, or > limit when `strictly`).
+    // world() never decreases as raw grows (scale > 0, rounding is monotonic), so bisection finds
+    // it in 32 steps; walking from an estimate took 2^31 steps when the offset dwarfs the scale.
     auto first_raw_beyond = [&](double limit, bool strictly) {
         auto passes = [&](std::int64_t raw) { return strictly ? world(raw) > limit : world(raw) >= limit; };
-        double guess = std::ceil((limit - offset) / scale);
-        if (!(guess > lowest)) return lowest;
-        if (!(guess < past_highest)) return past_highest;
-        auto raw = static_cast<std::int64_t>(guess);
-        while (raw > lowest && passes(raw - 1)) --raw;
-        while (raw < past_highest && !passes(raw)) ++raw;
-        return raw;
+        if (passes(lowest)) return lowest;
+        std::int64_t below = lowest, above = past_highest; // !passes(below); above: passes, or none does
+        while (above - below > 1) {
+            const std::int64_t middle = below + (above - below) / 2;
+            (passes(middle) ? above : below) = middle;
+        }
+        return above;
     };
 
     const std::uint32_t n = grid.dims[axis];

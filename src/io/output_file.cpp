@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -48,13 +49,38 @@ void check_output_folder(const std::string& path) {
         throw Error(ErrorKind::output, path + ": cannot write in " + folder + ": " + std::strerror(errno));
 }
 
+// mkstemp creates files readable by their owner only; a finished output gets the mode any new
+// file gets (0666 less the umask), read once: umask() can only be read by setting it.
+static mode_t new_file_mode() {
+    static const mode_t mode = [] {
+        const mode_t mask = ::umask(0);
+        ::umask(mask);
+        return 0666 & ~mask;
+    }();
+    return mode;
+}
+
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
-    temporary_ = path_ + "." + std::to_string(::getpid()) + ".tmp";
+    // A short name of its own in the output's folder (the rename must not cross file systems):
+    // "<path>.<pid>.tmp" would not fit beside a legal 250-character name. Recognisable, for
+    // removal after a kill -9 (docs/usage.md).
+    std::string pattern = folder_of(path_) + "/.lasmesh-XXXXXX.tmp";
     // Created and registered under the lock: no moment where the file exists unregistered.
     std::lock_guard lock(unfinished().mutex);
-    file_ = std::fopen(temporary_.c_str(), "wb");
-    if (file_) unfinished().paths.push_back(temporary_);
-    if (!file_) throw Error(ErrorKind::output, path_ + ": cannot create " + temporary_ + ": " + std::strerror(errno));
+    const int fd = ::mkstemps(pattern.data(), 4);
+    if (fd < 0) throw Error(ErrorKind::output, path_ + ": cannot create a temporary file in " + folder_of(path_) + ": " +
+                                                   std::strerror(errno));
+    temporary_ = pattern;
+    unfinished().paths.push_back(temporary_);
+    ::fchmod(fd, new_file_mode());
+    file_ = ::fdopen(fd, "wb");
+    if (!file_) {
+        const int error = errno;
+        ::close(fd);
+        ::unlink(temporary_.c_str());
+        forget(temporary_);
+        throw Error(ErrorKind::output, path_ + ": cannot open " + temporary_ + ": " + std::strerror(error));
+    }
     static thread_local char buffer[1 << 20];
     std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
 }

@@ -5,6 +5,8 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -114,6 +116,7 @@ std::uint8_t to_8bit(double v, Type type) {
 } // namespace
 
 Mesh read_ply(const std::string& path) {
+    if (std::filesystem::is_directory(path)) throw Error(ErrorKind::input, path + ": is a directory, expected a mesh file");
     std::ifstream file(path, std::ios::binary);
     if (!file) throw Error(ErrorKind::input, path + ": cannot open the mesh file");
     std::vector<char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -173,14 +176,36 @@ Mesh read_ply(const std::string& path) {
         } else if (keyword == "comment") {
             std::string what;
             words >> what;
-            if (what == "origin") words >> mesh.origin[0] >> mesh.origin[1] >> mesh.origin[2];
-            if (what == "cell_size") words >> mesh.cell_size;
+            // Every distance is measured from these: a value that does not parse must not become 0.
+            auto finite = [&](double& v) {
+                std::string text;
+                words >> text;
+                const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+                return !text.empty() && ec == std::errc() && end == text.data() + text.size() && std::isfinite(v);
+            };
+            if (what == "origin" && !(finite(mesh.origin[0]) && finite(mesh.origin[1]) && finite(mesh.origin[2])))
+                throw bad("expected \"comment origin X Y Z\" with three finite numbers");
+            if (what == "cell_size" && !(finite(mesh.cell_size) && mesh.cell_size >= 0))
+                throw bad("expected \"comment cell_size C\" with a finite number >= 0");
         } else if (keyword != "obj_info" && !keyword.empty()) {
             throw bad("unknown header keyword");
         }
     }
     if (!have_format) throw Error(ErrorKind::input, path + ": the PLY header has no format line");
 
+    // The counts are checked against the file's size before anything is allocated for them: a
+    // 177-byte file may declare 2^32 - 1 vertices. Every record takes at least one byte, which
+    // bounds the allocation by the file's size; the exact shortfall is found while reading.
+    {
+        std::uint64_t least = 0;
+        for (const Element& e : elements)
+            if (!e.properties.empty() && __builtin_add_overflow(least, e.count, &least)) least = UINT64_MAX;
+        if (least > bytes.size() - at)
+            throw Error(ErrorKind::input, path + ": byte " + std::to_string(at) +
+                                              ": the PLY header declares elements that need at least " +
+                                              std::to_string(least) + " bytes, but only " +
+                                              std::to_string(bytes.size() - at) + " follow it (truncated or damaged file)");
+    }
     Body body(path, std::move(bytes), at, format);
     bool have_vertices = false;
     for (const Element& e : elements) {

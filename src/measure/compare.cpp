@@ -2,6 +2,7 @@
 // distance lands in its own slot, so the statistics do not depend on the thread count.
 #include "lasmesh/measure/compare.hpp"
 
+#include "lasmesh/error.hpp"
 #include "lasmesh/read/las_point.hpp"
 #include "lasmesh/measure/mesh_distance.hpp"
 
@@ -26,8 +27,10 @@ std::vector<Point3f> load_points(LasReader& cloud, const Vec3& origin, std::uint
     const PointDecoder decoder(cloud.header());
     const std::uint64_t n = cloud.header().point_count;
     std::vector<Point3f> points;
-    points.reserve(std::min(n, wanted));
-    std::vector<std::byte> chunk(65536 * decoder.record_length);
+    // Not reserved from the header's count: a damaged header may promise far more than the file
+    // holds. Chunks are bounded in bytes, whatever the record length.
+    std::vector<std::byte> chunk(std::max<std::size_t>(1, (std::size_t{16} << 20) / decoder.record_length) *
+                                 decoder.record_length);
     while (std::size_t count = cloud.read_records(chunk)) {
         for (std::size_t r = 0; r < count; ++r, ++read) {
             if (!selected(read, n, wanted)) continue;
@@ -97,11 +100,31 @@ DistanceStats summarize(std::vector<double>& d, double cell_size) {
     return s;
 }
 
+namespace {
+// Zero when every triangle is degenerate: then no distance to "the surface" means anything.
+bool has_area(const Mesh& mesh) {
+    for (const auto& t : mesh.triangles) {
+        const auto& a = mesh.positions[t[0]];
+        const auto& b = mesh.positions[t[1]];
+        const auto& c = mesh.positions[t[2]];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        if (u[1] * v[2] - u[2] * v[1] != 0 || u[2] * v[0] - u[0] * v[2] != 0 || u[0] * v[1] - u[1] * v[0] != 0)
+            return true;
+    }
+    return false;
+}
+} // namespace
+
 CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& options) {
+    // Statistics over nothing would print as numbers with exit 0: refuse instead.
+    if (mesh.triangles.empty()) throw Error(ErrorKind::input, "the mesh has no triangles: nothing to measure");
+    if (!has_area(mesh))
+        throw Error(ErrorKind::input, "every triangle of the mesh has zero area: there is no surface to measure");
     CompareResult result;
     result.cell_size = options.cell_size > 0 ? options.cell_size : mesh.cell_size;
     const PointSearch points(load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
     result.points_used = points.size();
+    if (points.size() == 0) throw_input_error(cloud.stream().name(), "has no point records: nothing to measure against");
 
     std::vector<double> to_mesh(points.size());
     const TriangleSearch triangles(mesh);

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -141,6 +142,10 @@ InputStream::InputStream(const std::string& path) : impl_(std::make_unique<Impl>
     if (path == "-") {
         s.name = "standard input";
         s.fd = STDIN_FILENO;
+        // Waiting for binary LAS from the keyboard looks like a hang: say what was meant instead.
+        if (::isatty(s.fd))
+            throw Error(ErrorKind::usage, "reading a LAS stream from a terminal: pipe a file into `-` "
+                                          "(e.g. cat deck.las | lasmesh - ...) or give its path");
     } else {
         s.name = path;
         s.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -205,6 +210,17 @@ std::uint64_t InputStream::skip(std::uint64_t size) {
         if (got < want) break;
     }
     return done;
+}
+
+std::uint64_t InputStream::drain() {
+    Impl& s = *impl_;
+    // A regular uncompressed file needs no reading: its size says what is left.
+    if (!s.decompressed && s.raw_size && *s.raw_size >= s.raw_position) {
+        const std::uint64_t rest = *s.raw_size - s.raw_position;
+        s.raw_position += rest, s.position += rest;
+        return rest;
+    }
+    return skip(std::numeric_limits<std::uint64_t>::max());
 }
 
 const std::string& InputStream::name() const { return impl_->name; }

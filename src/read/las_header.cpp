@@ -5,7 +5,9 @@
 #include "lasmesh/error.hpp"
 #include "lasmesh/read/input_stream.hpp"
 
+#include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <vector>
 
@@ -61,6 +63,12 @@ std::string printable(const std::byte* at, std::size_t size) {
     return text;
 }
 
+// The shortest text that reads back as `value`: 1e+300, not the 301 digits of std::to_string.
+std::string shortest(double value) {
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+}
+
 [[noreturn]] void refuse_laz(const InputStream& in, const std::string& why) {
     throw_input_error(in.name(),
                       "is LAZ (compressed LAS): " + why +
@@ -73,6 +81,12 @@ void read_exactly(InputStream& in, std::byte* dst, std::size_t size, const std::
     std::uint64_t at = in.position();
     std::size_t got = in.read(dst, size);
     if (got < size) {
+        // A compressed stream that yields nothing is a damaged one, not an empty file: Boost's zstd
+        // filter, for one, ends quietly where a frame is cut short.
+        if (at == 0 && got == 0 && in.compression() != Compression::none)
+            throw_input_error(in.name(), "corrupt or truncated " + std::string(compression_name(in.compression())) +
+                                             " stream near compressed byte " + std::to_string(in.raw_position()) +
+                                             ": it decompresses to nothing");
         if (at == 0 && got == 0) throw_input_error(in.name(), "is empty, expected a LAS file");
         throw_input_error(in.name(), "ends at byte " + std::to_string(at + got) + " inside " + what +
                                          " (bytes " + std::to_string(at) + " to " +
@@ -145,6 +159,8 @@ LasHeader read_las_header(InputStream& in) {
     b = block.data();
     read_exactly(in, block.data() + 227, h.header_size - 227u, "the LAS header");
     if (h.version_minor >= 4) h.point_count = load_le<std::uint64_t>(b + 247);
+    if (h.version_minor >= 3) h.start_after_points = load_le<std::uint64_t>(b + 227); // waveform data
+    if (h.version_minor >= 4 && h.start_after_points == 0) h.start_after_points = load_le<std::uint64_t>(b + 235);
 
     if (format_byte & 0xC0u)
         refuse_laz(in, "point format byte " + hex_byte(format_byte) + " at byte 104 has the compression bits set");
@@ -166,8 +182,7 @@ LasHeader read_las_header(InputStream& in) {
         for (int i = 0; i < 3; ++i)
             if (h.min[i] > h.max[i])
                 throw_input_error(in.name(), std::string("header bounds are inverted: min ") + "XYZ"[i] +
-                                                 " " + std::to_string(h.min[i]) + " > max " +
-                                                 std::to_string(h.max[i]) +
+                                                 " " + shortest(h.min[i]) + " > max " + shortest(h.max[i]) +
                                                  " (bytes 179-226): the header is damaged; rewrite its bounds from the points, e.g. "
                                                  "with `lasinfo -repair_bb`");
 
@@ -212,6 +227,25 @@ LasHeader read_las_header(InputStream& in) {
                                          ", before the offset to point data " +
                                          std::to_string(h.offset_to_point_data));
     return h;
+}
+
+void check_header_bounds_usable(const LasHeader& h, const std::string& name) {
+    auto text = shortest;
+    for (int a = 0; a < 3; ++a) {
+        const std::string field = std::string("header bounds min/max ") + "XYZ"[a] + " (bytes " +
+                                  std::to_string(179 + 16 * a) + "-" + std::to_string(194 + 16 * a) + ": " +
+                                  text(h.min[a]) + " to " + text(h.max[a]) + ")";
+        // One step of slack each way: writers round the bounds outwards.
+        const double lowest = h.offset[a] + (std::numeric_limits<std::int32_t>::min() - 1.0) * h.scale[a];
+        const double highest = h.offset[a] + (std::numeric_limits<std::int32_t>::max() + 1.0) * h.scale[a];
+        if (h.min[a] < lowest || h.max[a] > highest)
+            throw_input_error(name, field + " lie beyond every coordinate a record can hold (" + text(lowest) + " to " +
+                                        text(highest) + " with this scale and offset): the header is damaged; "
+                                        "give --scan-bounds or --bounds");
+        if (!(h.max[a] - h.min[a] < 1e37))
+            throw_input_error(name, field + " span more than a mesh's float positions can hold: the header is "
+                                    "damaged; give --scan-bounds or --bounds");
+    }
 }
 
 } // namespace lasmesh

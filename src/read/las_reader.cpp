@@ -7,7 +7,21 @@
 
 namespace lasmesh {
 
-LasReader::LasReader(const std::string& path) : stream_(path), header_(read_las_header(stream_)) {}
+namespace {
+// A header that fails to parse on a compressed stream may be the decoder's fault (a damaged block
+// whose check comes at its end): run the decoder on, and report its error when it has one.
+LasHeader read_header(InputStream& stream) {
+    try {
+        return read_las_header(stream);
+    } catch (const Error&) {
+        // Bounded: a large stream of something else need not be decoded to its end for this.
+        if (stream.compression() != Compression::none) stream.skip(std::uint64_t{64} << 20); // throws the codec's error
+        throw;
+    }
+}
+} // namespace
+
+LasReader::LasReader(const std::string& path) : stream_(path), header_(read_header(stream_)) {}
 
 std::size_t LasReader::read_records(std::span<std::byte> dst) {
     const std::size_t length = header_.point_record_length;
@@ -27,7 +41,19 @@ std::size_t LasReader::read_records(std::span<std::byte> dst) {
                               " bytes (truncated file or pipe?)");
     }
     records_read_ += wanted;
+    // After the last promised record: verify the codec's end and count what follows.
+    if (records_left() == 0) trailing_bytes_ = stream_.drain();
     return static_cast<std::size_t>(wanted);
+}
+
+std::string trailing_warning(const LasReader& reader) {
+    const std::uint64_t bytes = reader.trailing_bytes(), length = reader.header().point_record_length;
+    // LAS 1.3 waveform packets and 1.4 extended VLRs belong after the records: not a warning.
+    if (bytes == 0 || reader.header().start_after_points != 0) return "";
+    return "warning: " + reader.stream().name() + ": " + std::to_string(bytes) + " bytes (" +
+           std::to_string(bytes / length) + " whole records of " + std::to_string(length) + " bytes) follow the " +
+           std::to_string(reader.header().point_count) +
+           " point records the header counts and were left out (is the header's point count wrong?)";
 }
 
 } // namespace lasmesh

@@ -68,9 +68,12 @@ Extremes scan_chunk(const PointDecoder& decoder, const std::byte* records, std::
 ScanResult scan_points(LasReader& reader, std::size_t chunk_records) {
     const PointDecoder decoder(reader.header());
     const std::size_t length = decoder.record_length;
+    // Bounded in bytes too: 65,536 records of a 65,535-byte record length would be 4 GB.
+    constexpr std::size_t max_chunk_bytes = std::size_t{16} << 20;
+    const std::size_t records = std::clamp<std::size_t>(chunk_records, 1, std::max<std::size_t>(1, max_chunk_bytes / length));
     // Two chunks: the next is read while the cores scan the current one.
     std::array<std::vector<std::byte>, 2> chunks;
-    for (auto& chunk : chunks) chunk.resize(std::max<std::size_t>(chunk_records, 1) * length);
+    for (auto& chunk : chunks) chunk.resize(records * length);
 
     ScanResult result;
     result.has_color = decoder.has_color();

@@ -9,10 +9,13 @@ source "$(dirname "$0")/common.sh"
 
 # expect NAME CODE PHRASE COMMAND...: runs COMMAND (a shell string, so pipes work) with -o out.ply
 # appended, and checks the exit code, the phrase in stderr, and that out.ply does not exist.
-expect() {
+expect() { expect_exactly "$1" "$2" "$3" "$4 -o out.ply"; }
+
+# expect_exactly NAME CODE PHRASE COMMAND: the same checks, with nothing appended to COMMAND.
+expect_exactly() {
   local name=$1 code=$2 phrase=$3 rc
   rm -f "$dir/out.ply"
-  (cd "$dir" && eval "$4 -o out.ply") > /dev/null 2> "$dir/err.txt"; rc=$?
+  (cd "$dir" && eval "$4") > /dev/null 2> "$dir/err.txt"; rc=$?
   check "$name: exit $code (got $rc: $(head -c 300 "$dir/err.txt"))" test "$rc" -eq "$code"
   check "$name: message has \"$phrase\" (got: $(head -c 300 "$dir/err.txt"))" grep -qF -- "$phrase" "$dir/err.txt"
   check "$name: one line" test "$(wc -l < "$dir/err.txt")" -eq 1
@@ -74,7 +77,7 @@ expect "truncated pipe" 2 'standard input: ends at byte 33972 after 990' "cat tr
 expect "zero scale" 2 'zero-scale.las: X scale factor at byte 131 is zero' "$L zero-scale.las"
 expect "non-finite scale" 2 'nan-scale.las: Y scale factor at byte 139 is not a finite number' "$L nan-scale.las"
 expect "non-finite offset" 2 'inf-offset.las: Y offset at byte 163 is not a finite number' "$L inf-offset.las"
-expect "min > max bounds" 2 'inverted.las: header bounds are inverted: min X 1000000000.000000 > max 5.001000 (bytes 179-226): the header is damaged' "$L inverted.las"
+expect "min > max bounds" 2 'inverted.las: header bounds are inverted: min X 1e+09 > max 5.001 (bytes 179-226): the header is damaged' "$L inverted.las"
 expect "VLR runs past the point data" 2 'vlr-length.las: VLR 0 (user id "lasmesh", record 1, 100 bytes at byte 281) runs past' "$L vlr-length.las"
 expect "VLR count too high" 2 'vlr-count.las: VLR 1 of 2 would start at byte 312' "$L vlr-count.las"
 expect "corrupt gzip" 2 'corrupt.las.gz: corrupt or truncated gzip stream near compressed byte' "$L corrupt.las.gz"
@@ -100,7 +103,7 @@ fi
 "$lasgen" --scene sphere --points 300000 -o big.las
 expect "disk full while writing" 4 'out.ply: writing failed: File too large: free some space or write elsewhere' \
   "trap '' XFSZ; ulimit -f 8192; $L big.las --grid 200 --min-piece 0 --simplify 0 --ascii"
-check "disk full leaves no temporary file" test -z "$(ls | grep '\.tmp$')"
+check "disk full leaves no temporary file" test -z "$(ls -A | grep '\.tmp$')"
 expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 65536"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
@@ -130,5 +133,111 @@ r, w = os.pipe(); os.close(r)
 print(subprocess.run(sys.argv[1:], stdout=w, stderr=open("err.txt", "w")).returncode)' "$lasmesh" info --json ok.las)
 check "closed stdout pipe exits 4 (got $rc)" test "$rc" -eq 4
 check "closed stdout pipe is named" grep -qF "cannot write to standard output" err.txt
+
+# Issue 19, the second robustness round.
+"$lasmesh" ok.las -o m.ply --grid 16 --min-piece 0 -q
+
+# Data loss: an output over the input or over another output is refused before reading.
+cp ok.las in.ply
+expect "output is the input" 1 '-o "in.ply" and the input "in.ply" are the same file' "$L in.ply -o in.ply"
+check "the input is untouched" cmp -s ok.las in.ply
+expect "--report over the input" 1 '--report "ok.las" and the input "ok.las" are the same file' "$L ok.las --report ok.las"
+check "the input is untouched by --report" cmp -s ok.las in.ply
+expect "-o and --report on one path" 1 '--report "./out.ply" and -o "out.ply" are the same file' "$L ok.las --report ./out.ply"
+ln ok.las hardlink.ply
+expect "output is a hard link to the input" 1 '-o "hardlink.ply" and the input "ok.las" are the same file' "$L ok.las -o hardlink.ply"
+cp m.ply m-copy.ply
+expect_exactly "--heatmap over the cloud" 1 '--heatmap "in.ply" and the input "in.ply" are the same file' "$L compare m.ply in.ply --heatmap in.ply"
+expect_exactly "--heatmap over the mesh" 1 '--heatmap "m.ply" and the mesh "m.ply" are the same file' "$L compare m.ply ok.las --heatmap m.ply"
+check "the mesh is untouched" cmp -s m.ply m-copy.ply
+
+# Silent wrong results.
+python3 -c 'd = bytearray(open("ok.las.gz", "rb").read()); d[-8] ^= 0xFF; open("bad-crc.las.gz", "wb").write(d)'
+expect "gzip CRC checked after the last record" 2 'bad-crc.las.gz: corrupt or truncated gzip stream near compressed byte' "$L bad-crc.las.gz"
+expect "--voxel 0" 1 '--voxel 0: the cell edge must be a positive number' "$L ok.las --voxel 0"
+expect "--voxel -1" 1 '--voxel -1: the cell edge must be a positive number' "$L ok.las --voxel=-1"
+expect "--voxel nan" 1 'the cell edge must be a positive number' "$L ok.las --voxel nan"
+patch ok.las huge-bounds.las 179 6d 1e300 -1e300 1e300 -1e300 1e300 -1e300
+expect "header bounds of 1e300" 2 'huge-bounds.las: header bounds min/max X (bytes 179-194: -1e+300 to 1e+300) lie beyond every coordinate' "$L huge-bounds.las"
+patch ok.las huger-bounds.las 179 6d 1e308 -1e308 1e308 -1e308 1e308 -1e308
+expect "header bounds of 1e308" 2 'huger-bounds.las: header bounds min/max X (bytes 179-194' "$L huger-bounds.las"
+{ cat ok.las; head -c 107 ok.las; } > trailing.las # 3 whole records of 34 bytes and 5 bytes more
+"$lasmesh" trailing.las -o trailing.ply --grid 16 2> err.txt; rc=$?
+check "records after the header's count: still meshed (got $rc)" test "$rc" -eq 0
+check "and counted in a warning" grep -qF 'trailing.las: 107 bytes (3 whole records of 34 bytes) follow the 1000 point records the header counts' err.txt
+cat trailing.las | "$lasmesh" info --scan - > /dev/null 2> err.txt
+check "a pipe's trailing records are counted while draining" grep -qF 'standard input: 107 bytes (3 whole records' err.txt
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n' > empty.ply
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' > flat.ply
+printf 'ply\nformat ascii 1.0\ncomment origin nan 0 0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > nan-origin.ply
+expect_exactly "compare: an empty mesh" 2 'the mesh has no triangles: nothing to measure' "$L compare empty.ply ok.las"
+expect_exactly "compare: zero-area triangles" 2 'every triangle of the mesh has zero area' "$L compare flat.ply ok.las"
+expect_exactly "compare: a cloud with no points" 2 'zero-points.las: has no point records: nothing to measure against' "$L compare m.ply zero-points.las"
+expect_exactly "compare: comment origin nan" 2 'nan-origin.ply: header line 3 (byte 21): expected "comment origin X Y Z" with three finite numbers' "$L compare nan-origin.ply ok.las"
+
+# Hangs and crashes.
+# Offset 1e15 (one ulp: 0.125) and scale 1e-12: every raw value is 1e15 itself, and the cell-start
+# search used to walk 2^31 raw values per face. --bounds: header bounds like these are refused.
+patch ok.las far-offset.las 131 6d 1e-12 1e-12 1e-12 1e15 1e15 1e15
+timeout 60 "$lasmesh" grid far-offset.las --grid 16 --bounds 1e15,1e15,1e15,1000000000000000.125,1000000000000000.125,1000000000000000.125 > /dev/null 2> err.txt; rc=$?
+check "huge offset with one-ulp bounds: no hang (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0
+if command -v script > /dev/null; then
+  script -qec "$lasmesh - -o out.ply" /dev/null < /dev/null > tty.txt 2>&1; rc=$?
+  check "standard input a terminal: refused (got $rc)" test "$rc" -eq 1
+  check "standard input a terminal: says so" grep -qF 'reading a LAS stream from a terminal' tty.txt
+fi
+expect "SIGXFSZ under ulimit -f" 4 'out.ply: writing failed: File too large' "ulimit -f 8192; $L big.las --grid 200 --min-piece 0 --ascii"
+mkdir home
+HOME=$dir/home XDG_CACHE_HOME= POCL_CACHE_DIR= "$lasmesh" ok.las -o cache.ply --grid 16 -q
+check "PoCL's kernel cache goes to lasmesh's own folder" test -d home/.cache/lasmesh/pocl
+check "and not to PoCL's shared one" test ! -e home/.cache/pocl
+
+# Memory bounded by options, not by input fields.
+python3 - <<'PY'
+d = bytearray(open("ok.las", "rb").read()[:312])
+d[105:107] = (65535).to_bytes(2, "little"); d[107:111] = (10).to_bytes(4, "little")
+open("long-records.las", "wb").write(d + bytes(10 * 65535))
+PY
+(ulimit -v 1500000; "$lasmesh" info --scan long-records.las > /dev/null 2> err.txt); rc=$?
+check "info --scan of 65,535-byte records in 1.5 GB (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0
+(ulimit -v 1500000; "$lasmesh" info --scan --chunk-points 1073741824 ok.las > /dev/null 2> err.txt); rc=$?
+check "info --scan --chunk-points 2^30 in 1.5 GB (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0
+patch ok.las huge-count.las 107 I 0xFFFFFFFF
+expect_exactly "compare --samples 2^34 with a lying count" 2 'huge-count.las: ends at byte 34312 after 1000 whole point records' \
+  "ulimit -v 3000000; $L compare m.ply huge-count.las --samples 17179869184"
+expect_exactly "compare --mesh-samples too many" 1 '--mesh-samples' "$L compare m.ply ok.las --mesh-samples 4294967296"
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4294967295\nproperty float x\nproperty float y\nproperty float z\nend_header\n' > many.ply
+expect_exactly "PLY declaring 2^32-1 vertices in a tiny file" 2 'many.ply: byte 124: the PLY header declares elements that need at least 4294967295 bytes, but only 0 follow it' "$L compare many.ply ok.las"
+
+expect "--draco-bits 28: refused, not 1 GB" 1 '--draco-bits: expected 1 to 24 bits, got "28"' "$L ok.las -o out.drc --draco-bits 28"
+check "--draco-bits 28: no .drc" test ! -e out.drc
+
+# Exit codes and messages.
+expect "--device with 20 digits" 1 '--device 99999999999999999999: there are' "$L ok.las --device 99999999999999999999"
+mkdir folder.ply
+expect_exactly "compare on a directory" 2 'folder.ply: is a directory, expected a mesh file' "$L compare folder.ply ok.las"
+"$lasgen" --scene sphere --points 1000 --las-version 1.4 -o v14.las
+patch v14.las v14-count.las 247 Q 0
+patch v14-count.las v14-count.las 107 I 20000
+expect "LAS 1.4 count 0, legacy count not" 2 'its 64-bit point count (bytes 247-254) is 0 but its legacy point count (bytes 107-110) is 20000' "$L v14-count.las"
+head -c 2000 ok.las.zst > truncated.las.zst
+expect "truncated zstd" 2 'truncated.las.zst: corrupt or truncated zstd stream' "$L truncated.las.zst"
+bzip2 -c ok.las > ok.las.bz2
+python3 -c 'd = bytearray(open("ok.las.bz2", "rb").read()); d[20] ^= 0xFF; open("corrupt.las.bz2", "wb").write(d)'
+expect "corrupt bzip2" 2 'corrupt.las.bz2: corrupt or truncated bzip2 stream' "$L corrupt.las.bz2"
+expect "--voxel 1e-300: short numbers" 1 'the grid would need 1.0002000000000001e+301 cells along one axis' "$L ok.las --voxel 1e-300"
+check "--voxel 1e-300: no 300-digit number" test "$(wc -c < err.txt)" -lt 200
+expect "--chunk-mb 0" 1 'expected a positive number, got "0"' "$L ok.las --chunk-mb 0"
+check "--chunk-mb 0: no DBL_MAX" test -z "$(grep -F 'e+308' err.txt)"
+expect "unknown option: one line with the prefix" 1 'lasmesh: The following argument was not expected: --bogus' "$L ok.las --bogus"
+python3 -c 'd = bytearray(open("ok.las", "rb").read()); d[26:36] = b"\x1b]0;pwn\x07\x1b[2J"[:10]; open("escape.las", "wb").write(d)'
+"$lasmesh" info escape.las > info.txt
+check "header strings: escape sequences escaped" grep -qF 'system identifier    \x1b]0;pwn\x07\x1b' info.txt
+check "header strings: no raw escape byte" test -z "$(grep -P '\x1b' info.txt)"
+
+# Temporary files: a short name of their own, so a legal long output name works.
+long=$(printf 'a%.0s' $(seq 248)).ply
+"$lasmesh" ok.las -o "$long" --grid 16 -q; rc=$?
+check "a 252-character output name (got $rc)" test "$rc" -eq 0 -a -s "$long"
 
 finish "cli errors"

@@ -60,7 +60,7 @@ for ((i = 0; i < iterations; i++)); do
   if kill -9 "$pid" 2> /dev/null; then killed=$((killed + 1)); else finished=$((finished + 1)); fi
   wait "$pid" 2> /dev/null
   if final_files_complete; then complete=$((complete + 1)); else echo "after kill -9 at ${delay_ms} ms: incomplete"; fi
-  rm -f out.ply.*.tmp out.drc.*.tmp # kill -9 may leave these; never under the final name
+  rm -f .lasmesh-*.tmp # kill -9 may leave these; never under the final name
 done
 check "kill -9 at $iterations random moments: every final file complete ($complete; $killed killed, $finished finished)" \
   test "$complete" -eq "$iterations"
@@ -78,7 +78,7 @@ wait "$pid"; rc=$?
 check "SIGINT exits 130 (got $rc)" test "$rc" -eq 130
 check "SIGINT says so" grep -qF "lasmesh: stopped by SIGINT; unfinished outputs removed" err.txt
 check "SIGINT leaves no output" test ! -e out.ply
-check "SIGINT leaves no temporary file" test -z "$(compgen -G 'out.ply.*.tmp')"
+check "SIGINT leaves no temporary file" test -z "$(compgen -G '.lasmesh-*.tmp')"
 set +m
 
 # SIGTERM while writing: sent as soon as the temporary file appears (a 26 MB ASCII PLY takes a
@@ -88,13 +88,13 @@ for ((attempt = 0; attempt < 5 && caught == 0; attempt++)); do
   rm -f out.ply
   "$lasmesh" s.las -o out.ply --grid 200 --min-piece 0 --ascii 2> err.txt &
   pid=$!
-  until compgen -G 'out.ply.*.tmp' > /dev/null || ! kill -0 "$pid" 2> /dev/null; do :; done
+  until compgen -G '.lasmesh-*.tmp' > /dev/null || ! kill -0 "$pid" 2> /dev/null; do :; done
   kill -TERM "$pid" 2> /dev/null
   wait "$pid"; rc=$?
   [ "$rc" -eq 143 ] && caught=1
 done
 check "SIGTERM while writing exits 143 (got $rc)" test "$rc" -eq 143
 check "SIGTERM while writing leaves no output" test ! -e out.ply
-check "SIGTERM while writing removes the temporary file" test -z "$(compgen -G 'out.ply.*.tmp')"
+check "SIGTERM while writing removes the temporary file" test -z "$(compgen -G '.lasmesh-*.tmp')"
 
 finish "cli signals"

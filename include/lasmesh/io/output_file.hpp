@@ -13,7 +13,7 @@ namespace lasmesh {
 
 class OutputFile {
 public:
-    // Creates "<path>.<pid>.tmp"; throws Error (output) when the folder is missing or read-only.
+    // Creates ".lasmesh-XXXXXX.tmp" in the folder of `path`; throws Error (output) when the folder is missing or read-only.
     explicit OutputFile(std::string path);
     ~OutputFile(); // removes the temporary file unless commit() succeeded
     OutputFile(const OutputFile&) = delete;

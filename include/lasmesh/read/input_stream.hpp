@@ -22,7 +22,7 @@ Compression detect_compression(const std::byte* first_bytes, std::size_t size);
 class InputStream {
 public:
     // `path` is a file path, or "-" for standard input. Throws Error (input) when the path is
-    // missing, a directory or unreadable.
+    // missing, a directory or unreadable; Error (usage) for "-" when standard input is a terminal.
     explicit InputStream(const std::string& path);
     ~InputStream();
     InputStream(const InputStream&) = delete;
@@ -34,6 +34,10 @@ public:
 
     // Reads and discards `size` bytes; returns how many there were before the end.
     std::uint64_t skip(std::uint64_t size);
+    // Reads to the end and returns how many bytes there were. For compressed input this runs the
+    // decoder to its end, so its end-of-stream checks (gzip CRC and length, ...) are made: a
+    // stream read only up to what the header promises would otherwise never be verified.
+    std::uint64_t drain();
 
     // "standard input" or the path, for messages.
     const std::string& name() const;

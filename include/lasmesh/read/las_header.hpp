@@ -40,6 +40,9 @@ struct LasHeader {
     Vec3 min{};
     Vec3 max{};
     std::vector<Vlr> vlrs;
+    // Where data the format puts after the point records starts (LAS 1.3 waveform packets, LAS
+    // 1.4 extended VLRs); 0 when none: then any bytes after the last record are unexpected.
+    std::uint64_t start_after_points = 0;
 };
 
 // Size of the record fields a point format defines, before any extra bytes.
@@ -57,5 +60,10 @@ std::string version_string(const LasHeader& header);
 // naming the stream, the byte offset and what was expected: bad signature, unsupported version,
 // LAZ, inconsistent sizes or offsets, bad scale factors, VLRs that overrun the point data.
 LasHeader read_las_header(InputStream& in);
+
+// Header bounds are used as the grid's box: throws Error (input), naming the header field, when
+// an axis's bounds lie beyond every coordinate a record can encode (offset + scale * int32) or
+// span more than float positions can hold. `name` is the input's, for the message.
+void check_header_bounds_usable(const LasHeader& header, const std::string& name);
 
 } // namespace lasmesh

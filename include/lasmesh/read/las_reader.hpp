@@ -23,14 +23,24 @@ public:
     std::uint64_t records_left() const { return header_.point_count - records_read_; }
 
     // Fills `dst` with up to dst.size() / point_record_length whole records and returns how many;
-    // 0 once every record the header promises has been read (bytes after them are ignored).
-    // Throws Error (input) naming the records read and expected when the input ends early.
+    // 0 once every record the header promises has been read. Throws Error (input) naming the
+    // records read and expected when the input ends early, or when a compressed stream fails its
+    // end-of-stream check (read through to the end after the last record).
     std::size_t read_records(std::span<std::byte> dst);
+
+    // Bytes after the last promised record, known once it is read: records the header does not
+    // count (a wrong point count) or junk. Never meshed; the caller warns.
+    std::uint64_t trailing_bytes() const { return trailing_bytes_; }
 
 private:
     InputStream stream_;
     LasHeader header_;
     std::uint64_t records_read_ = 0;
+    std::uint64_t trailing_bytes_ = 0;
 };
+
+// "warning: 20 bytes (0 whole records of 34 bytes) follow the 1000 point records the header
+// counts; they were not read (the header's point count is wrong?)", or "" when none follow.
+std::string trailing_warning(const LasReader& reader);
 
 } // namespace lasmesh

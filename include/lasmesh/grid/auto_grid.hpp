@@ -1,0 +1,32 @@
+// `--grid auto`: a cell size from the data's density, so that the cells on a scanned surface hold
+// enough points for the surface to close. Too fine a grid leaves holes (cells with no points
+// between the points); too coarse a one blurs detail. Estimated from the header alone (count and
+// extents), before any point is read; a later version may refine it from the accumulated counts.
+#pragma once
+
+#include "lasmesh/grid/grid.hpp"
+#include "lasmesh/read/las_header.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace lasmesh {
+
+struct GridChoice {
+    GridRequest request;  // cells along the longest axis
+    std::string reason;   // for the summary: "the points cover about 120 m2, ...: 180 cells"
+};
+
+// Points per surface cell aimed at, and the cells along the longest axis allowed.
+constexpr double auto_grid_points_per_cell = 12;
+constexpr std::uint32_t auto_grid_min_cells = 16, auto_grid_max_cells = 1024;
+// Fewer points than this cannot outline a closed surface at the coarsest grid.
+constexpr std::uint64_t auto_grid_min_points = 100;
+
+// The grid for `point_count` points in `bounds`, assuming they lie on a surface whose area is about
+// the sum of the two largest face areas of the bounding box (a terrain, a facade, a hull seen
+// from around). Throws Error (input) when there are too few points for any surface, naming the
+// option to give instead.
+GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const std::string& input_name);
+
+} // namespace lasmesh

@@ -1,0 +1,20 @@
+// Refusing a run whose outputs would overwrite its input or each other: a user who types
+// `lasmesh in.ply -o in.ply` or `-o out.ply --report out.ply` loses data without a word otherwise.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lasmesh {
+
+// True when `a` and `b` name one file: the same device and inode when both exist (links and
+// different spellings included), else the same canonical folder and file name.
+bool same_file(const std::string& a, const std::string& b);
+
+// Each entry is (role, path), e.g. ("-o", "out.ply") or ("the input", "in.las"); "-" (standard
+// input or output) is skipped. Throws Error (usage) naming both roles and paths when two entries
+// are the same file. Call it before reading anything.
+void check_distinct_files(const std::vector<std::pair<std::string, std::string>>& paths);
+
+} // namespace lasmesh

@@ -1,0 +1,44 @@
+// choose_grid: points per unit of surface area, then the cell edge h that puts
+// auto_grid_points_per_cell points into a surface cell: N h^2 / A = k, h = sqrt(k A / N).
+#include "lasmesh/grid/auto_grid.hpp"
+
+#include "lasmesh/error.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cmath>
+#include <functional>
+
+namespace lasmesh {
+
+GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const std::string& input_name) {
+    if (point_count < auto_grid_min_points)
+        throw_input_error(input_name, "has " + std::to_string(point_count) + " points, too few to outline a surface (" +
+                                          std::to_string(auto_grid_min_points) +
+                                          " at least for --grid auto); give a coarse grid yourself, e.g. --grid 8");
+    std::array<double, 3> e{};
+    for (int a = 0; a < 3; ++a) e[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
+    std::sort(e.begin(), e.end(), std::greater<>());
+    // The two largest faces: a flat scan is one face (the third extent is ~0), a building's or a
+    // hull's is about two.
+    double area = e[0] * e[1] + e[0] * e[2];
+    if (!(area > 0)) area = e[0] * e[0]; // points on a line or one spot: any cell size
+    const double cell = std::sqrt(auto_grid_points_per_cell * area / static_cast<double>(point_count));
+    const double wanted = cell > 0 && e[0] > 0 ? e[0] / cell : auto_grid_min_cells;
+    const auto cells = static_cast<std::uint32_t>(
+        std::clamp(std::round(wanted), double(auto_grid_min_cells), double(auto_grid_max_cells)));
+    GridChoice choice;
+    choice.request.kind = GridRequest::Kind::longest_axis;
+    choice.request.dims = {cells, 0, 0};
+    char text[160];
+    std::snprintf(text, sizeof text, "%.3g points per unit of area over about %.3g square units: %u cells%s",
+                  point_count / area, area, cells,
+                  wanted < auto_grid_min_cells   ? " (the fewest allowed)"
+                  : wanted > auto_grid_max_cells ? " (the most allowed; give --grid for more)"
+                                                 : "");
+    choice.reason = text;
+    return choice;
+}
+
+} // namespace lasmesh

@@ -1,0 +1,44 @@
+// same_file: identity by device and inode, so "in.las", "./in.las" and a hard link all match; a
+// path that does not exist yet has no inode, so its canonical folder plus name stands in.
+#include "lasmesh/io/same_file.hpp"
+
+#include "lasmesh/error.hpp"
+
+#include <filesystem>
+#include <sys/stat.h>
+
+namespace lasmesh {
+
+namespace {
+
+std::string canonical_name(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code error;
+    const fs::path p(path);
+    const fs::path folder = fs::weakly_canonical(p.parent_path().empty() ? fs::path(".") : p.parent_path(), error);
+    return (error ? p.parent_path() : folder).string() + "/" + p.filename().string();
+}
+
+} // namespace
+
+bool same_file(const std::string& a, const std::string& b) {
+    struct stat sa {}, sb {};
+    const bool a_exists = ::stat(a.c_str(), &sa) == 0, b_exists = ::stat(b.c_str(), &sb) == 0;
+    if (a_exists && b_exists) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    if (a_exists != b_exists) return false;
+    return canonical_name(a) == canonical_name(b);
+}
+
+void check_distinct_files(const std::vector<std::pair<std::string, std::string>>& paths) {
+    for (std::size_t i = 0; i < paths.size(); ++i)
+        for (std::size_t j = i + 1; j < paths.size(); ++j) {
+            const auto& [role_a, a] = paths[i];
+            const auto& [role_b, b] = paths[j];
+            if (a == "-" || b == "-" || !same_file(a, b)) continue;
+            throw Error(ErrorKind::usage, role_b + " \"" + b + "\" and " + role_a + " \"" + a +
+                                              "\" are the same file: writing one would destroy the other; "
+                                              "give each output a path of its own");
+        }
+}
+
+} // namespace lasmesh
