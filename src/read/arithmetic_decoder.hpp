@@ -1,0 +1,113 @@
+// The adaptive range decoder LASzip entropy-codes with (Isenburg 2013, "LASzip: lossless
+// compression of LiDAR data", section 3; the coder is A. Said's FastAC, "Introduction to
+// arithmetic coding", 2003), with its adaptive bit and symbol models and the integer
+// decoder that codes corrections to a prediction as (bucket k, offset in bucket).
+// Written from those descriptions; every constant below is part of the LAZ format.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace lasmesh::laz {
+
+// Adaptive binary model: probability of a 0 in 13 bits, refreshed on a growing cycle.
+struct BitModel {
+    std::uint32_t bit_0_count = 1;
+    std::uint32_t bit_count = 2;
+    std::uint32_t bit_0_prob = 1u << 12;
+    std::uint32_t update_cycle = 4;
+    std::uint32_t bits_until_update = 4;
+    void update();
+};
+
+// Adaptive model over `symbols` symbols: cumulative distribution in 15 bits, plus a lookup
+// table that narrows the search for models over more than 16 symbols.
+class SymbolModel {
+public:
+    explicit SymbolModel(std::uint32_t symbols);
+    void update();
+
+    std::uint32_t symbols;
+    std::uint32_t last_symbol;
+    std::uint32_t table_shift = 0;
+    std::uint32_t total_count = 0;
+    std::uint32_t update_cycle;
+    std::uint32_t symbols_until_update;
+    std::vector<std::uint32_t> distribution;
+    std::vector<std::uint32_t> counts;
+    std::vector<std::uint32_t> table; // empty for small models
+};
+
+// Range decoder over one buffer. Reading past its end yields zeros and is counted, so a
+// truncated or corrupt stream decodes to garbage values but never reads out of bounds; the
+// caller checks overrun() once per chunk or layer.
+class ArithmeticDecoder {
+public:
+    ArithmeticDecoder() = default;
+    // Starts decoding at the first byte of `bytes` (reads 4 bytes of state).
+    explicit ArithmeticDecoder(std::span<const std::byte> bytes);
+
+    std::uint32_t decode_bit(BitModel& model);
+    std::uint32_t decode_symbol(SymbolModel& model);
+    std::uint32_t read_bits(std::uint32_t bits); // 1 to 32 raw bits
+    std::uint32_t read_int() { return read_bits(32); }
+
+    // Bytes consumed so far (including those read past the end).
+    std::size_t position() const { return pos_; }
+    bool overrun() const { return pos_ > size_; }
+
+private:
+    std::uint32_t next_byte() {
+        std::uint32_t b = pos_ < size_ ? std::to_integer<std::uint32_t>(data_[pos_]) : 0u;
+        ++pos_;
+        return b;
+    }
+    void renormalize() {
+        do {
+            value_ = (value_ << 8) | next_byte();
+            length_ <<= 8;
+        } while (length_ < (1u << 24));
+    }
+    std::uint32_t read_short_bits(std::uint32_t bits); // up to 19 bits at once
+
+    const std::byte* data_ = nullptr;
+    std::size_t size_ = 0;
+    std::size_t pos_ = 0;
+    std::uint32_t value_ = 0;
+    std::uint32_t length_ = 0xFFFFFFFFu;
+};
+
+// Decodes integers coded as a correction to a prediction (Isenburg 2013, section 3.2): the
+// correction's bit length k with a symbol model per context, then its value within the
+// 2^(k-1)-wide bucket (low bits raw above `bits_high`). `bits` is the width of the values.
+class IntegerDecoder {
+public:
+    IntegerDecoder(std::uint32_t bits = 16, std::uint32_t contexts = 1, std::uint32_t bits_high = 8);
+    std::int32_t decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context = 0);
+    // The bit length of the last correction: later fields use it as context.
+    std::uint32_t k() const { return k_; }
+
+private:
+    std::int32_t read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model);
+
+    std::uint32_t corr_bits_;
+    std::uint32_t bits_high_;
+    std::uint32_t corr_range_;
+    std::int32_t corr_min_;
+    std::uint32_t k_ = 0;
+    std::vector<SymbolModel> bits_models_; // one per context
+    BitModel corrector0_;
+    std::vector<SymbolModel> correctors_; // index k-1 for k = 1..corr_bits
+};
+
+// Streaming median of the last five values: the predictor of X and Y differences.
+struct Median5 {
+    std::int32_t v[5] = {0, 0, 0, 0, 0};
+    bool high = true;
+    std::int32_t get() const { return v[2]; }
+    void add(std::int32_t x);
+};
+
+} // namespace lasmesh::laz
