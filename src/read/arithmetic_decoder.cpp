@@ -159,10 +159,20 @@ IntegerDecoder::IntegerDecoder(std::uint32_t bits, std::uint32_t contexts, std::
         corr_range_ = 0; // values wrap around 2^32 by themselves
         corr_min_ = INT32_MIN;
     }
-    bits_models_.assign(contexts, SymbolModel(corr_bits_ + 1));
-    correctors_.reserve(corr_bits_);
-    for (std::uint32_t i = 1; i <= corr_bits_; ++i)
-        correctors_.emplace_back(i <= bits_high_ ? 1u << i : 1u << bits_high_);
+    bits_models_.resize(contexts);
+    correctors_.resize(corr_bits_);
+}
+
+SymbolModel& IntegerDecoder::bits_model(std::uint32_t context) {
+    auto& m = bits_models_[context];
+    if (!m) m = std::make_unique<SymbolModel>(corr_bits_ + 1);
+    return *m;
+}
+
+SymbolModel& IntegerDecoder::corrector(std::uint32_t k) {
+    auto& m = correctors_[k - 1];
+    if (!m) m = std::make_unique<SymbolModel>(k <= bits_high_ ? 1u << k : 1u << bits_high_);
+    return *m;
 }
 
 std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model) {
@@ -171,10 +181,10 @@ std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel&
     if (k_ >= 32) return corr_min_;
     std::uint32_t c;
     if (k_ <= bits_high_) {
-        c = dec.decode_symbol(correctors_[k_ - 1]);
+        c = dec.decode_symbol(corrector(k_));
     } else {
         const std::uint32_t low_bits = k_ - bits_high_;
-        c = dec.decode_symbol(correctors_[k_ - 1]);
+        c = dec.decode_symbol(corrector(k_));
         c = (c << low_bits) | dec.read_bits(low_bits);
     }
     // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k].
@@ -185,7 +195,7 @@ std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel&
 }
 
 std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
-    const std::int32_t corr = read_corrector(dec, bits_models_[context]);
+    const std::int32_t corr = read_corrector(dec, bits_model(context));
     std::int32_t real = static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr));
     if (real < 0) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) + corr_range_);
     else if (static_cast<std::uint32_t>(real) >= corr_range_) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) - corr_range_);

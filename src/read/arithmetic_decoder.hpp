@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -40,6 +41,21 @@ public:
     std::vector<std::uint32_t> table; // empty for small models
 };
 
+// A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
+// its time building models for values that never occur in it.
+class LazySymbolModel {
+public:
+    explicit LazySymbolModel(std::uint32_t symbols) : symbols_(symbols) {}
+    SymbolModel& get() {
+        if (!model_) model_ = std::make_unique<SymbolModel>(symbols_);
+        return *model_;
+    }
+
+private:
+    std::uint32_t symbols_;
+    std::unique_ptr<SymbolModel> model_;
+};
+
 // Range decoder over one buffer. Reading past its end yields zeros and is counted, so a
 // truncated or corrupt stream decodes to garbage values but never reads out of bounds; the
 // caller checks overrun() once per chunk or layer.
@@ -51,6 +67,7 @@ public:
 
     std::uint32_t decode_bit(BitModel& model);
     std::uint32_t decode_symbol(SymbolModel& model);
+    std::uint32_t decode_symbol(LazySymbolModel& model) { return decode_symbol(model.get()); }
     std::uint32_t read_bits(std::uint32_t bits); // 1 to 32 raw bits
     std::uint32_t read_int() { return read_bits(32); }
 
@@ -97,9 +114,13 @@ private:
     std::uint32_t corr_range_;
     std::int32_t corr_min_;
     std::uint32_t k_ = 0;
-    std::vector<SymbolModel> bits_models_; // one per context
+    // Models are made on first use: most contexts and bit lengths never occur in a chunk, and
+    // small chunks (COPC nodes) would otherwise spend their time building them.
+    SymbolModel& bits_model(std::uint32_t context);
+    SymbolModel& corrector(std::uint32_t k);
+    std::vector<std::unique_ptr<SymbolModel>> bits_models_; // one per context
     BitModel corrector0_;
-    std::vector<SymbolModel> correctors_; // index k-1 for k = 1..corr_bits
+    std::vector<std::unique_ptr<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
 };
 
 // Streaming median of the last five values: the predictor of X and Y differences.

@@ -220,8 +220,9 @@ void Rgb12Decoder::decode(ArithmeticDecoder& dec, std::byte* out) {
     for (int i = 0; i < 3; ++i) store_le(out + 2 * i, last_[i]);
 }
 
-ByteDecoder::ByteDecoder(const std::byte* first, std::size_t size) : last_(size), models_(size, SymbolModel(256)) {
+ByteDecoder::ByteDecoder(const std::byte* first, std::size_t size) : last_(size) {
     std::memcpy(last_.data(), first, size);
+    for (std::size_t i = 0; i < size; ++i) models_.emplace_back(256);
 }
 
 void ByteDecoder::decode(ArithmeticDecoder& dec, std::byte* out) {

@@ -50,7 +50,7 @@ private:
     std::array<std::int64_t, 4> last_time_{}; // the doubles' bit patterns
     std::array<std::int32_t, 4> last_diff_{};
     std::array<std::int32_t, 4> extreme_counter_{};
-    SymbolModel multi_;
+    LazySymbolModel multi_;
     SymbolModel zero_diff_{6};
     IntegerDecoder ic_time_{32, 9};
 };
@@ -58,9 +58,9 @@ private:
 // Colour decoding shared by RGB12 v2 and RGB14/RGBNIR14 v3: which bytes changed, then each
 // changed byte relative to the last colour and the other channels' change.
 struct RgbModels {
-    SymbolModel used{128};
-    std::array<SymbolModel, 6> diff{SymbolModel(256), SymbolModel(256), SymbolModel(256),
-                                    SymbolModel(256), SymbolModel(256), SymbolModel(256)};
+    LazySymbolModel used{128};
+    std::array<LazySymbolModel, 6> diff{LazySymbolModel(256), LazySymbolModel(256), LazySymbolModel(256),
+                                        LazySymbolModel(256), LazySymbolModel(256), LazySymbolModel(256)};
 };
 void decode_rgb(ArithmeticDecoder& dec, RgbModels& models, std::array<std::uint16_t, 3>& last);
 
@@ -82,7 +82,7 @@ public:
 
 private:
     std::vector<std::uint8_t> last_;
-    std::vector<SymbolModel> models_;
+    std::vector<LazySymbolModel> models_;
 };
 
 // Waveform packet descriptor (29 bytes): index, offset, size, return point, x, y, z.

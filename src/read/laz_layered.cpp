@@ -74,15 +74,16 @@ struct Point14Context {
     std::int64_t gps = 0; // the double's bits
     bool gps_changed = false;
 
-    std::array<SymbolModel, 8> changed{SymbolModel(128), SymbolModel(128), SymbolModel(128), SymbolModel(128),
-                                       SymbolModel(128), SymbolModel(128), SymbolModel(128), SymbolModel(128)};
-    SymbolModel scanner_channel{3};
+    std::array<LazySymbolModel, 8> changed{LazySymbolModel(128), LazySymbolModel(128), LazySymbolModel(128),
+                                           LazySymbolModel(128), LazySymbolModel(128), LazySymbolModel(128),
+                                           LazySymbolModel(128), LazySymbolModel(128)};
+    LazySymbolModel scanner_channel{3};
     std::array<std::unique_ptr<SymbolModel>, 16> number_of_returns, return_number;
-    SymbolModel return_number_gps_same{13};
+    LazySymbolModel return_number_gps_same{13};
     IntegerDecoder ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
     std::array<std::unique_ptr<SymbolModel>, 64> classification_models, flags_models, user_data_models;
     IntegerDecoder ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
-    SymbolModel gps_multi_model{gps_multi_total}, gps_zero_diff{5};
+    LazySymbolModel gps_multi_model{gps_multi_total}, gps_zero_diff{5};
     IntegerDecoder ic_gps{32, 9};
     std::uint32_t gps_last = 0, gps_next = 0;
     std::array<std::int64_t, 4> gps_times{};
@@ -346,14 +347,19 @@ struct RgbState {
     std::array<std::uint16_t, 3> last;
     std::uint16_t nir = 0;
     std::unique_ptr<RgbModels> rgb = std::make_unique<RgbModels>();
-    std::unique_ptr<SymbolModel> nir_used = std::make_unique<SymbolModel>(4);
-    std::unique_ptr<std::array<SymbolModel, 2>> nir_diff =
-        std::make_unique<std::array<SymbolModel, 2>>(std::array<SymbolModel, 2>{SymbolModel(256), SymbolModel(256)});
+    std::unique_ptr<LazySymbolModel> nir_used = std::make_unique<LazySymbolModel>(4);
+    std::unique_ptr<std::array<LazySymbolModel, 2>> nir_diff = std::make_unique<std::array<LazySymbolModel, 2>>(
+        std::array<LazySymbolModel, 2>{LazySymbolModel(256), LazySymbolModel(256)});
 };
 
 struct ByteState {
     std::vector<std::uint8_t> last;
-    std::vector<SymbolModel> models;
+    std::vector<LazySymbolModel> models;
+    static ByteState from(std::vector<std::uint8_t> last) {
+        ByteState s{std::move(last), {}};
+        for (std::size_t i = 0; i < s.last.size(); ++i) s.models.emplace_back(256);
+        return s;
+    }
 };
 
 struct WaveState {
@@ -418,7 +424,7 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
             break;
         }
         case ItemType::byte14: {
-            ByteState s{std::vector<std::uint8_t>(item.size), std::vector<SymbolModel>(item.size, SymbolModel(256))};
+            ByteState s = ByteState::from(std::vector<std::uint8_t>(item.size));
             std::memcpy(s.last.data(), first, item.size);
             extra.emplace(point->context(), std::move(s), item.version);
             byte_layers = &layers[layer];
@@ -472,7 +478,7 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
         }
         if (extra) {
             extra->follow(channel, [](const ByteState& from) {
-                return ByteState{from.last, std::vector<SymbolModel>(from.last.size(), SymbolModel(256))};
+                return ByteState::from(from.last);
             });
             ByteState& models = extra->models();
             ByteState& last = extra->last();
