@@ -155,12 +155,6 @@ TEST_CASE("real LAZ files decode to the independently measured records (SHA-256)
         CHECK(std::to_string(d.count) == row.at("decoded_point_count"));
         CHECK(join3(d.min_raw) == row.at("actual_min_raw"));
         CHECK(join3(d.max_raw) == row.at("actual_max_raw"));
-        // KNOWN GAP: this COPC file switches scanner channel (0 -> 1 -> 0 ...) inside a layered
-        // v3 chunk; our blue channel drifts after the switches, so its records are not yet right.
-        if (row.at("file") == "PDAL_PDAL__test_data_tindex_autzen_clip_native.copc.laz") {
-            WARN_MESSAGE(d.sha256 == row.at("points_sha256"), "known gap: multi-channel RGB14 v3 (see laz_test.cpp)");
-            continue;
-        }
         CHECK(d.sha256 == row.at("points_sha256"));
         if (row.at("rgb_min") != "-") {
             CHECK(join3(d.rgb_min) == row.at("rgb_min"));
@@ -173,7 +167,7 @@ TEST_CASE("real LAZ files decode to the independently measured records (SHA-256)
         if (d.sha256 == row.at("points_sha256")) ++matched;
     }
     MESSAGE(matched << " LAZ files match their SHA-256, " << unverified << " unverifiable decoded, " << refused << " refused");
-    CHECK(matched == 11); // of 12 decoded independently; see the known gap above
+    CHECK(matched == 12); // every file decoded independently
 }
 
 namespace {

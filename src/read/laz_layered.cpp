@@ -312,19 +312,19 @@ void Point14Decoder::decode(std::byte* out) {
     store_le(out + 22, c->gps);
 }
 
-// Per-channel state of the items after POINT14. `last` names the context whose last value
-// predicts: version 3 moves it only when a channel is used for the first time (an already used
-// channel keeps predicting from the previous channel's value), version 4 on every switch.
+// Per-channel state of the items after POINT14. On a switch to a channel seen the first time,
+// its state starts from the current channel's last value. On a switch to a channel already
+// used, version 3 predicts (and stores) that one point from the previous channel's last value,
+// as LASzip 3.x does; version 4 uses the channel's own.
 template <typename State>
 class Channels {
 public:
     Channels(std::uint32_t channel, State first, std::uint16_t version) : version_(version), current_(channel), last_(channel) {
         states_[channel].emplace(std::move(first));
     }
-    // Switches to `channel`; `fresh` makes a state for a channel seen the first time from the
-    // value of the current one.
     template <typename Fresh>
     void follow(std::uint32_t channel, Fresh fresh) {
+        last_ = current_;
         if (channel == current_) return;
         current_ = channel;
         if (!states_[channel]) {
