@@ -48,6 +48,9 @@ std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Fo
         last_bytes = ic.decode(dec, last_bytes, 1);
         c.bytes = static_cast<std::uint32_t>(last_bytes);
         c.offset = offset;
+        if (!plausible_points(c.points, c.bytes) || c.points * format.record_length > max_chunk_record_bytes)
+            throw_input_error(source, where + ": chunk " + std::to_string(i + 1) + " claims " + std::to_string(c.points) +
+                                          " points in " + std::to_string(c.bytes) + " bytes (corrupt table)");
         offset += c.bytes;
         points += c.points;
     }

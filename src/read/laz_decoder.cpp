@@ -140,10 +140,17 @@ bool LazDecoder::next_chunk_bytes(Pending& p) {
             chunk_error(p.index, p.chunk, p.chunk.offset + format_.record_length,
                         "it holds " + std::to_string(count) + " points, but " + std::to_string(left) +
                             " points are left (chunk size " + std::to_string(format_.chunk_size) + ")");
-        if (body > (std::uint64_t{1} << 32))
-            chunk_error(p.index, p.chunk, p.chunk.offset + format_.record_length + 4, "its layer sizes are implausible");
-        p.bytes.resize(static_cast<std::size_t>(head + body));
-        read_exactly(p.bytes.data() + head, static_cast<std::size_t>(body), p.index, "the layers");
+        if (body > (std::uint64_t{1} << 32) || !plausible_points(count, head + body) ||
+            count * format_.record_length > max_chunk_record_bytes)
+            chunk_error(p.index, p.chunk, p.chunk.offset + format_.record_length + 4,
+                        "its layer sizes are implausible for " + std::to_string(count) + " points");
+        // Grown as the bytes arrive: corrupt layer sizes must not allocate gigabytes up front.
+        for (std::uint64_t have = 0; have < body;) {
+            const std::size_t step = static_cast<std::size_t>(std::min<std::uint64_t>(body - have, 1u << 20));
+            p.bytes.resize(static_cast<std::size_t>(head + have) + step);
+            read_exactly(p.bytes.data() + head + have, step, p.index, "the layers");
+            have += step;
+        }
     }
     points_started_ += p.chunk.points;
     ++chunks_started_;
@@ -159,9 +166,23 @@ void LazDecoder::decode_pointwise_sequential() {
     p.chunk.points = format_.chunked() ? std::min<std::uint64_t>(format_.chunk_size, point_count_ - points_started_)
                                        : point_count_;
     const std::size_t length = format_.record_length;
-    decoded_.resize(static_cast<std::size_t>(p.chunk.points) * length);
     bool at_end = false;
-    std::size_t want = std::max<std::size_t>(1u << 16, decoded_.size() / 4);
+    if (!format_.chunked()) {
+        // Compressor 1: one stream to the end of the input; its size bounds the point count.
+        for (std::size_t got = 1; got > 0;) {
+            const std::size_t had = carry_.size();
+            carry_.resize(had + (1u << 20));
+            got = stream_.read(carry_.data() + had, 1u << 20);
+            carry_.resize(had + got);
+        }
+        at_end = true;
+        if (!plausible_points(p.chunk.points, carry_.size()) || p.chunk.points * length > max_chunk_record_bytes)
+            chunk_error(p.index, p.chunk, stream_.position(),
+                        "the input ends after " + std::to_string(carry_.size()) + " compressed bytes, too few for " +
+                            std::to_string(p.chunk.points) + " points (truncated file?)");
+    }
+    // Start from a guess (LAZ is 5-10 times smaller than LAS) and double on each retry.
+    std::size_t want = std::clamp<std::size_t>(static_cast<std::size_t>(p.chunk.points) * length / 4, 1u << 16, 1u << 22);
     for (;;) {
         if (carry_.size() < want && !at_end) {
             const std::size_t had = carry_.size();
@@ -171,6 +192,14 @@ void LazDecoder::decode_pointwise_sequential() {
             at_end = had + got < want;
         }
         p.chunk.bytes = carry_.size();
+        if (decoded_.empty()) {
+            // Records are allocated only once the input shows enough bytes for them.
+            if (!plausible_points(p.chunk.points, carry_.size()))
+                chunk_error(p.index, p.chunk, p.chunk.offset + carry_.size(),
+                            "the input ends after " + std::to_string(carry_.size()) + " bytes, too few for " +
+                                std::to_string(p.chunk.points) + " points (truncated or corrupt)");
+            decoded_.resize(static_cast<std::size_t>(p.chunk.points) * length);
+        }
         try {
             const std::size_t used = decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data());
             carry_.erase(carry_.begin(), carry_.begin() + static_cast<std::ptrdiff_t>(used));

@@ -30,6 +30,10 @@ constexpr std::int32_t gps_multi_unchanged = gps_multi - gps_multi_minus + 1; //
 constexpr std::int32_t gps_multi_code_full = gps_multi - gps_multi_minus + 2; // 512
 constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 6;     // 516
 
+// The GPS time's bits plus a difference, wrapping (corrupt input must not overflow a signed type).
+inline std::int64_t add64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+}
 inline std::int32_t mul32(std::int32_t a, std::int32_t b) {
     return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
 }
@@ -129,7 +133,7 @@ void GpsTime11Decoder::decode_time(ArithmeticDecoder& dec, int depth) {
         const std::uint32_t multi = dec.decode_symbol(zero_diff_);
         if (multi == 1) {
             last_diff_[last_] = ic_time_.decode(dec, 0, 0);
-            last_time_[last_] += last_diff_[last_];
+            last_time_[last_] = add64(last_time_[last_], last_diff_[last_]);
             extreme_counter_[last_] = 0;
         } else if (multi == 2) {
             full_time();
@@ -142,7 +146,7 @@ void GpsTime11Decoder::decode_time(ArithmeticDecoder& dec, int depth) {
     const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(multi_));
     const std::int32_t last_diff = last_diff_[last_];
     if (multi == 1) {
-        last_time_[last_] += ic_time_.decode(dec, last_diff, 1);
+        last_time_[last_] = add64(last_time_[last_], ic_time_.decode(dec, last_diff, 1));
         extreme_counter_[last_] = 0;
     } else if (multi < gps_multi_unchanged) {
         std::int32_t diff;
@@ -163,7 +167,7 @@ void GpsTime11Decoder::decode_time(ArithmeticDecoder& dec, int depth) {
                 extreme(diff);
             }
         }
-        last_time_[last_] += diff;
+        last_time_[last_] = add64(last_time_[last_], diff);
     } else if (multi == gps_multi_code_full) {
         full_time();
     } else if (multi > gps_multi_code_full) {

@@ -45,6 +45,10 @@ constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 5;     //
 inline std::int32_t add32(std::int32_t a, std::int32_t b) {
     return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) + static_cast<std::uint32_t>(b));
 }
+// The GPS time's bits plus a difference, wrapping (corrupt input must not overflow a signed type).
+inline std::int64_t add64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+}
 inline std::int32_t mul32(std::int32_t a, std::int32_t b) {
     return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
 }
@@ -170,7 +174,7 @@ void Point14Decoder::decode_gps(Point14Context& c, int depth) {
         const std::uint32_t multi = dec.decode_symbol(c.gps_zero_diff);
         if (multi == 0) {
             c.gps_diffs[l] = c.ic_gps.decode(dec, 0, 0);
-            c.gps_times[l] += c.gps_diffs[l];
+            c.gps_times[l] = add64(c.gps_times[l], c.gps_diffs[l]);
             c.gps_extreme[l] = 0;
         } else if (multi == 1) {
             full_time();
@@ -183,7 +187,7 @@ void Point14Decoder::decode_gps(Point14Context& c, int depth) {
     const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(c.gps_multi_model));
     const std::int32_t last_diff = c.gps_diffs[l];
     if (multi == 1) {
-        c.gps_times[l] += c.ic_gps.decode(dec, last_diff, 1);
+        c.gps_times[l] = add64(c.gps_times[l], c.ic_gps.decode(dec, last_diff, 1));
         c.gps_extreme[l] = 0;
     } else if (multi < gps_multi_code_full) {
         std::int32_t diff;
@@ -204,7 +208,7 @@ void Point14Decoder::decode_gps(Point14Context& c, int depth) {
                 extreme(diff);
             }
         }
-        c.gps_times[l] += diff;
+        c.gps_times[l] = add64(c.gps_times[l], diff);
     } else if (multi == gps_multi_code_full) {
         full_time();
     } else {

@@ -62,6 +62,10 @@ Format parse_laszip_vlr(std::span<const std::byte> p, const std::string& source,
     if (coder != 0) fail("coder " + std::to_string(coder) + " is not 0 (arithmetic), the only one LASzip defines");
     f.compressor = static_cast<Compressor>(compressor);
     if (f.chunked() && f.chunk_size == 0) fail("chunk size is 0");
+    // LASzip writes 50,000; a fixed size beyond this (16.7 M points) is corruption, and would
+    // make a chunk's records too large to hold.
+    if (f.chunked() && !f.variable_chunks() && f.chunk_size > (1u << 24))
+        fail("chunk size " + std::to_string(f.chunk_size) + " is implausibly large");
     if (p.size() < 34 + 6u * count)
         fail("lists " + std::to_string(count) + " items but is only " + std::to_string(p.size()) + " bytes");
     unsigned total = 0;
@@ -98,6 +102,9 @@ Format parse_laszip_vlr(std::span<const std::byte> p, const std::string& source,
         fail("items add up to " + std::to_string(total) + " bytes per point, but the header's point record length is " +
              std::to_string(record_length));
     f.record_length = record_length;
+    if (f.chunked() && !f.variable_chunks() && std::uint64_t{f.chunk_size} * record_length > max_chunk_record_bytes)
+        fail("chunks of " + std::to_string(f.chunk_size) + " points of " + std::to_string(record_length) +
+             " bytes would not fit in memory");
     return f;
 }
 

@@ -34,6 +34,8 @@ struct Item {
 enum class Compressor : std::uint16_t { pointwise = 1, pointwise_chunked = 2, layered_chunked = 3 };
 
 constexpr std::uint32_t variable_chunk_size = 0xFFFFFFFFu;
+// A chunk is decoded whole into memory; more than this many bytes of records is refused.
+constexpr std::uint64_t max_chunk_record_bytes = std::uint64_t{1} << 28;
 
 struct Format {
     Compressor compressor = Compressor::pointwise_chunked;
