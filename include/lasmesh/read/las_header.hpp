@@ -13,7 +13,8 @@ class InputStream;
 
 using Vec3 = std::array<double, 3>;
 
-// A variable length record as listed in the header area; its payload is read past, not kept.
+// A variable length record as listed in the header area; its payload is read past, not kept
+// (except the LASzip VLR's, which the LAZ decoder needs).
 struct Vlr {
     std::string user_id;     // up to 16 characters, trailing NULs removed
     std::uint16_t record_id = 0;
