@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the LAS reader (tools/fuzz/fuzz_las.cpp) with libFuzzer under AddressSanitizer and
+# Fuzzes the LAS and LAZ reader (tools/fuzz/fuzz_las.cpp) with libFuzzer under AddressSanitizer and
 # UndefinedBehaviorSanitizer for SECONDS (default 60); exits non-zero on any crash, leaving the
 # input that caused it in build-fuzz/artifacts/. Needs build/lasgen (tools/build.sh) for the seeds.
 # Longer runs: `bash tools/fuzz.sh 3600`; the corpus in build-fuzz/corpus/ grows across runs.
@@ -12,10 +12,11 @@ mkdir -p "$out/seeds" "$out/corpus" "$out/artifacts"
 
 # Compiled directly (no CMake): the target needs only the reading sources and Boost.Iostreams.
 sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/read/input_stream.cpp src/read/las_header.cpp src/read/las_reader.cpp
-         src/read/las_scan.cpp)
+         src/read/las_scan.cpp src/read/arithmetic_decoder.cpp src/read/laz_vlr.cpp src/read/laz_items_v2.cpp
+         src/read/laz_pointwise.cpp src/read/laz_layered.cpp src/read/laz_chunks.cpp src/read/laz_decoder.cpp)
 if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out/fuzz_las" | head -1)" ]; then
   clang++-14 -std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
-    -fno-sanitize-recover=undefined -Iinclude -Isrc "${sources[@]}" -lboost_iostreams -o "$out/fuzz_las"
+    -fno-sanitize-recover=undefined -Iinclude -Isrc "${sources[@]}" -lboost_iostreams -ltbb -o "$out/fuzz_las"
 fi
 
 # Seeds: small valid files of every version and point format, some with extra bytes, and the
@@ -36,6 +37,15 @@ gzip -c "$out/seeds/v1.2-f3.las" > "$out/seeds/v1.2-f3.las.gz"
 bzip2 -c "$out/seeds/v1.4-f7.las" > "$out/seeds/v1.4-f7.las.bz2"
 xz -c "$out/seeds/v1.3-f1.las" > "$out/seeds/v1.3-f1.las.xz"
 zstd -q -c "$out/seeds/v1.0-f0.las" > "$out/seeds/v1.0-f0.las.zst"
+# LAZ (issue 18): the small files of the shared corpus, when it is there: pointwise and layered,
+# fixed and variable chunks, from a file (chunk table) and gzip-compressed (sequential decoding).
+laz=${LASMESH_SHARED:-../shared}/data/laz
+if [ -d "$laz" ]; then
+  for f in laspy_laspy__tests_data_simple.laz laspy_laspy__tests_data_1_4_w_evlr.laz \
+           PDAL_PDAL__test_data_tindex_autzen_clip_native.copc.laz laspy_laspy__tests_data_extra.laz; do
+    [ -f "$laz/$f" ] && cp "$laz/$f" "$out/seeds/" && gzip -c "$laz/$f" > "$out/seeds/$f.gz"
+  done
+fi
 
 # -timeout: one input taking 10 s is a hang; -rss_limit_mb: no input may need much memory.
 "$out/fuzz_las" "$out/corpus" "$out/seeds" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
                "  lasmesh deck.las -o deck.ply -o deck.drc          PLY to edit, Draco to share, one pass\n"
                "  curl -s https://example.org/deck.las | lasmesh - -o deck.glb\n"
                "  zstdcat scan.las.zst | lasmesh - -o scan.ply      gzip/bzip2/xz/zstd are also read directly\n"
-               "  laszip -i in.laz -olas -stdout | lasmesh - -o in.ply\n"
+               "  lasmesh scan.laz -o scan.ply                      LAZ (LASzip) is decoded directly, in parallel\n"
                "  lasmesh deck.las -o deck.ply --grid 512           finer: 512 cells along the longest axis\n"
                "  lasmesh valve.las -o valve.ply --voxel 0.01       cells of 1 cm, for a small part\n"
                "  lasmesh deck.las -o deck.ply --iso 8              fill only cells with more than 8 points\n"

@@ -69,13 +69,6 @@ std::string shortest(double value) {
     return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
 
-[[noreturn]] void refuse_laz(const InputStream& in, const std::string& why) {
-    throw_input_error(in.name(),
-                      "is LAZ (compressed LAS): " + why +
-                          "; lasmesh reads uncompressed LAS, so decompress it on the way in, e.g. "
-                          "`laszip -i in.laz -olas -stdout | lasmesh info -`");
-}
-
 // Reads exactly `size` bytes or throws, naming what was being read.
 void read_exactly(InputStream& in, std::byte* dst, std::size_t size, const std::string& what) {
     std::uint64_t at = in.position();
@@ -162,9 +155,10 @@ LasHeader read_las_header(InputStream& in) {
     if (h.version_minor >= 3) h.start_after_points = load_le<std::uint64_t>(b + 227); // waveform data
     if (h.version_minor >= 4 && h.start_after_points == 0) h.start_after_points = load_le<std::uint64_t>(b + 235);
 
-    if (format_byte & 0xC0u)
-        refuse_laz(in, "point format byte " + hex_byte(format_byte) + " at byte 104 has the compression bits set");
-    h.point_format = static_cast<std::uint8_t>(format_byte);
+    // LAZ (LASzip): bit 7 (and bit 6 from early writers) marks compressed points; the record
+    // length stays that of the uncompressed record.
+    const bool compression_bits = (format_byte & 0xC0u) != 0;
+    h.point_format = static_cast<std::uint8_t>(format_byte & 0x3Fu);
     if (h.point_format > 10)
         throw_input_error(in.name(), "point data format " + std::to_string(h.point_format) +
                                          " (byte 104) is not one of the LAS formats 0 to 10");
@@ -203,8 +197,6 @@ LasHeader read_las_header(InputStream& in) {
         vlr.record_id = load_le<std::uint16_t>(raw.data() + 18);
         vlr.length = load_le<std::uint16_t>(raw.data() + 20);
         vlr.description = fixed_string(raw.data() + 22, 32);
-        if (vlr.user_id == laszip_user_id && vlr.record_id == laszip_record_id)
-            refuse_laz(in, "it has a LASzip VLR at byte " + std::to_string(at));
         std::uint64_t end = at + vlr_header_size + vlr.length;
         if (end > h.offset_to_point_data)
             throw_input_error(in.name(), "VLR " + std::to_string(i) + " (user id \"" +
@@ -214,11 +206,23 @@ LasHeader read_las_header(InputStream& in) {
                                              std::to_string(at + vlr_header_size) +
                                              ") runs past the offset to point data " +
                                              std::to_string(h.offset_to_point_data));
-        if (in.skip(vlr.length) < vlr.length)
+        const bool laszip = vlr.user_id == laszip_user_id && vlr.record_id == laszip_record_id;
+        if (laszip) {
+            vlr.data.resize(vlr.length);
+            if (in.read(vlr.data.data(), vlr.length) < vlr.length)
+                throw_input_error(in.name(), "ends inside VLR " + std::to_string(i) + " at byte " +
+                                                 std::to_string(in.position()));
+            h.compressed = true;
+        } else if (in.skip(vlr.length) < vlr.length)
             throw_input_error(in.name(), "ends inside VLR " + std::to_string(i) + " at byte " +
                                              std::to_string(in.position()));
         h.vlrs.push_back(std::move(vlr));
     }
+
+    if (compression_bits && !h.compressed)
+        throw_input_error(in.name(), "point format byte " + hex_byte(format_byte) +
+                                         " at byte 104 has the LAZ compression bits set, but there is no LASzip VLR "
+                                         "(user id \"laszip encoded\", record 22204) to say how");
 
     // Some writers leave a gap (LAS 1.0's 0xDDCC start signature, padding) before the points.
     std::uint64_t gap = h.offset_to_point_data - in.position();

@@ -68,7 +68,7 @@ expect "header size too small" 2 'header-size.las: header size 100 (byte 94) is 
 expect "point offset inside header" 2 'point-offset.las: offset to point data 200 (byte 96) lies inside' "$L point-offset.las"
 expect "record length below core size" 2 'record-length.las: point record length 20 (byte 105) is shorter than the 34 bytes' "$L record-length.las"
 expect "point format 11" 2 'format.las: point data format 11 (byte 104)' "$L format.las"
-expect "LAZ" 2 'laz.las: is LAZ (compressed LAS)' "$L laz.las"
+expect "LAZ bit without LASzip VLR" 2 'laz.las: point format byte 0x83 at byte 104 has the LAZ compression bits set, but there is no LASzip VLR' "$L laz.las"
 expect "zero points" 2 'zero-points.las: the header promises no point records' "$L zero-points.las"
 expect "more points promised" 2 'more-points.las: ends at byte 34312 after 1000 whole point records, but the header promises 1001' "$L more-points.las"
 expect "truncated file" 2 'truncated.las: ends at byte 33972 after 990 whole point records' "$L truncated.las"

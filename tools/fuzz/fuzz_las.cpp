@@ -1,6 +1,6 @@
 // libFuzzer target over everything that reads untrusted bytes before the device sees them:
 // compressed-input detection and decoding (InputStream), the header and VLR parser
-// (read_las_header) and the record reader and decoder (LasReader, scan_points).
+// (read_las_header), the LAZ decoder behind LasReader, and the record reader (scan_points).
 // A lasmesh::Error is the expected answer to bad bytes; anything else (a crash, a sanitizer
 // report, another exception) is a bug. Built and run by tools/fuzz.sh.
 #include "lasmesh/error.hpp"

@@ -13,12 +13,14 @@ class InputStream;
 
 using Vec3 = std::array<double, 3>;
 
-// A variable length record as listed in the header area; its payload is read past, not kept.
+// A variable length record as listed in the header area; its payload is read past, not kept
+// (except the LASzip VLR's, which the LAZ decoder needs).
 struct Vlr {
     std::string user_id;     // up to 16 characters, trailing NULs removed
     std::uint16_t record_id = 0;
     std::uint16_t length = 0; // payload bytes after the 54-byte VLR header
     std::string description; // up to 32 characters, trailing NULs removed
+    std::vector<std::byte> data; // the payload, kept only for the LASzip VLR
 };
 
 struct LasHeader {
@@ -30,7 +32,8 @@ struct LasHeader {
     std::uint16_t header_size = 0;
     std::uint32_t offset_to_point_data = 0;
     std::uint32_t vlr_count = 0;
-    std::uint8_t point_format = 0; // 0-10 (the compression bits 6 and 7 are refused)
+    std::uint8_t point_format = 0; // 0-10, with the LAZ compression bits 6 and 7 cleared
+    bool compressed = false;       // LAZ: a LASzip VLR (and the compression bit)
     std::uint16_t point_record_length = 0;
     std::uint32_t legacy_point_count = 0;
     // The number of records to read: the 64-bit count for LAS 1.4, the legacy count before.
@@ -58,7 +61,7 @@ std::string version_string(const LasHeader& header);
 // Reads the header block and the VLRs, then reads past any gap up to the offset to point data,
 // so the stream is left at the first point record. Validates as it goes and throws Error (input)
 // naming the stream, the byte offset and what was expected: bad signature, unsupported version,
-// LAZ, inconsistent sizes or offsets, bad scale factors, VLRs that overrun the point data.
+// inconsistent sizes or offsets, bad scale factors, VLRs that overrun the point data.
 LasHeader read_las_header(InputStream& in);
 
 // Header bounds are used as the grid's box: throws Error (input), naming the header field, when

@@ -1,5 +1,7 @@
 // A streaming LAS reader: header and VLRs first, then the point records in caller-sized chunks of
 // raw bytes, in one forward pass with no seeks (files, pipes and compressed streams alike).
+// LAZ (LASzip-compressed LAS) is decoded on the way: the header then describes the
+// uncompressed records, and read_records hands out the same bytes a LAS file would hold.
 #pragma once
 
 #include "lasmesh/read/input_stream.hpp"
@@ -7,15 +9,21 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 
 namespace lasmesh {
 
+namespace laz {
+class LazDecoder;
+}
+
 class LasReader {
 public:
     // Opens `path` ("-" for standard input) and reads the header; throws Error (input).
     explicit LasReader(const std::string& path);
+    ~LasReader();
 
     const LasHeader& header() const { return header_; }
     const InputStream& stream() const { return stream_; }
@@ -37,6 +45,7 @@ private:
     LasHeader header_;
     std::uint64_t records_read_ = 0;
     std::uint64_t trailing_bytes_ = 0;
+    std::unique_ptr<laz::LazDecoder> laz_; // set for LAZ input
 };
 
 // "warning: 20 bytes (0 whole records of 34 bytes) follow the 1000 point records the header

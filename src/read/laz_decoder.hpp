@@ -1,0 +1,57 @@
+// LazDecoder: the point records of a LAZ file, decoded chunk by chunk behind LasReader.
+// From a file the chunk table is read first (a second handle seeks to it) and batches of
+// chunks are decoded in parallel with TBB; the chunks themselves are still read in order from
+// the forward-only stream. From a pipe there is no table: layered chunks (compressor 3) state
+// their own sizes and are decoded in batches too; pointwise chunks of fixed size are decoded
+// one after the other, each ending where its arithmetic stream ends; variable-size pointwise
+// chunks cannot be found without the table and are refused with advice to give a file path.
+#pragma once
+
+#include "lasmesh/read/input_stream.hpp"
+#include "lasmesh/read/las_header.hpp"
+#include "read/laz_chunks.hpp"
+#include "read/laz_vlr.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lasmesh::laz {
+
+class LazDecoder {
+public:
+    // `stream` is at the offset to point data; `path` reopens the file for the chunk table.
+    LazDecoder(InputStream& stream, const LasHeader& header, const std::string& path);
+
+    // Copies up to `records` decoded records to `dst`; returns how many (0 once all are out).
+    std::size_t read(std::byte* dst, std::size_t records);
+
+    const Format& format() const { return format_; }
+
+private:
+    struct Pending {
+        std::vector<std::byte> bytes; // compressed chunk
+        Chunk chunk;
+        std::size_t index = 0;
+    };
+    void decode_next_batch();
+    bool next_chunk_bytes(Pending& p); // table or self-describing chunks; false at the end
+    void decode_pointwise_sequential();
+    void read_exactly(std::byte* dst, std::size_t size, std::uint64_t chunk_index, const char* what);
+    [[noreturn]] void chunk_error(std::size_t index, const Chunk& chunk, std::uint64_t at, const std::string& what) const;
+
+    InputStream& stream_;
+    const std::string source_;
+    Format format_;
+    std::uint64_t point_count_;
+    std::uint64_t points_started_ = 0; // points in chunks taken from the stream so far
+    std::size_t chunks_started_ = 0;
+    std::vector<Chunk> table_;  // empty when decoding without the table
+    bool have_table_ = false;
+    std::vector<std::byte> carry_; // pipe, pointwise: bytes read past the last chunk's end
+    std::vector<std::byte> decoded_;
+    std::size_t decoded_at_ = 0; // bytes of decoded_ handed out
+};
+
+} // namespace lasmesh::laz
