@@ -47,7 +47,7 @@ std::filesystem::path shared_las_folder();
 namespace test {
 
 struct DenseGrid {
-    const lasmesh::DensityGrid* grid = nullptr;
+    const lasmesh::DensityGrid* grid = nullptr; // the grid it was made from: keep it alive
     std::vector<std::uint64_t> count, red, green, blue;
     lasmesh::Rgb8 mean_color(std::uint64_t cell) const;
 };
