@@ -94,11 +94,19 @@ kernel void assign_bricks(global const uint* new_bricks, uint count, uint first_
     if (i < count) brick_slot[new_bricks[i]] = first_slot + i + 1;
 }
 
-void flush(global ulong* pool, ulong cell, ulong* sums) {
-    if (sums[0] == 0) return;
+// Adds a run's sums to its cell's record (pool words: count, x, y, z, then red, green, blue).
+void flush(global ulong* pool, ulong cell, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b) {
+    if (n == 0) return;
     global ulong* record = pool + cell * CELL_WORDS;
-    for (int w = 0; w < CELL_WORDS - (CELL_WORDS == 8); ++w)
-        if (sums[w]) add_sum((sum_ptr)(record + w), sums[w]);
+    add_sum((sum_ptr)record, n);
+    if (sx) add_sum((sum_ptr)(record + 1), sx);
+    if (sy) add_sum((sum_ptr)(record + 2), sy);
+    if (sz) add_sum((sum_ptr)(record + 3), sz);
+#ifdef RGB_OFFSET
+    if (r) add_sum((sum_ptr)(record + 4), r);
+    if (g) add_sum((sum_ptr)(record + 5), g);
+    if (b) add_sum((sum_ptr)(record + 6), b);
+#endif
 }
 
 kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
@@ -106,8 +114,9 @@ kernel void accumulate(global const uchar* records, uint count, uint record_leng
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
     const uint end = min(first + RUN, count);
-    ulong cell = (ulong)-1;
-    ulong sums[CELL_WORDS] = {0};
+    // The run's current cell, by its grid coordinates and its place in the pool, and its sums.
+    int cx = -1, cy = -1, cz = -1;
+    ulong cell = 0, n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
     uint outside = 0, largest = 0;
     for (uint i = first; i < end; ++i) {
         global const uchar* record = records + (ulong)i * record_length;
@@ -116,28 +125,28 @@ kernel void accumulate(global const uchar* records, uint count, uint record_leng
             ++outside;
             continue;
         }
-        const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)] - 1;
-        const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
-        const ulong here = (ulong)slot * (B * B * B) + in_brick;
-        if (here != cell) {
-            flush(pool, cell, sums);
-            for (int w = 0; w < CELL_WORDS; ++w) sums[w] = 0;
-            cell = here;
+        if (x != cx || y != cy || z != cz) {
+            flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
+            n = sx = sy = sz = sr = sg = sb = 0;
+            cx = x, cy = y, cz = z;
+            const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)] - 1;
+            const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
+            cell = (ulong)slot * (B * B * B) + in_brick;
         }
-        sums[0] += 1;
-        sums[1] += (ulong)(rx - starts_x[x]);
-        sums[2] += (ulong)(ry - starts_y[y]);
-        sums[3] += (ulong)(rz - starts_z[z]);
+        n += 1;
+        sx += (ulong)(rx - starts_x[x]);
+        sy += (ulong)(ry - starts_y[y]);
+        sz += (ulong)(rz - starts_z[z]);
 #ifdef RGB_OFFSET
         const uint r = load_u16(record + RGB_OFFSET), g = load_u16(record + RGB_OFFSET + 2),
                    b = load_u16(record + RGB_OFFSET + 4);
-        sums[4] += r;
-        sums[5] += g;
-        sums[6] += b;
+        sr += r;
+        sg += g;
+        sb += b;
         largest = max(largest, max(r, max(g, b)));
 #endif
     }
-    flush(pool, cell, sums);
+    flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
     // stats[0..1]: points outside the grid, a 64-bit sum; stats[2]: the largest colour word, which
     // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
     if (outside) add_sum((sum_ptr)stats, outside);
