@@ -97,14 +97,17 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
                                       (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : ""));
 }
 
-// The pool of bricks outgrew a limit after `points_read` of `points_total` points: stop, and
-// suggest a grid whose pool would fit, assuming the bricks seen so far grow in proportion to the
-// points still to come and the surface's bricks fall with the square of the grid.
+// The pool of bricks outgrew a limit after `points_read` of the header's points: stop, and
+// suggest a grid whose pool would fit, assuming the surface's bricks fall with the square of the
+// grid.
 [[noreturn]] void pool_too_large(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
                                  const std::string& problem, std::uint64_t bricks_used, std::uint64_t points_read,
                                  std::uint64_t available_bytes) {
+    // A scan in acquisition order meets new bricks all along; a random order meets most of them
+    // early. Between the two: at most twice the bricks seen so far.
     const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) / std::min(1.0, seen);
+    const double growth = std::min(2.0, 1 / std::min(1.0, seen));
+    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
     throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
