@@ -107,7 +107,9 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
     // early. Between the two: at most twice the bricks seen so far.
     const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
     const double growth = std::min(2.0, 1 / std::min(1.0, seen));
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth;
+    // A brick costs its bytes up to three times on the device while the pool doubles (old and
+    // new buffer), and about once more on the host when it is read back.
+    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * 4;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
     throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
@@ -274,8 +276,10 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 const std::string problem = exceeded(need, limits, "the pool of bricks");
                 if (!problem.empty()) {
                     queue.finish();
-                    const std::uint64_t available =
-                        std::min({max_alloc, limits.global_memory, limits.max_memory ? limits.max_memory : UINT64_MAX});
+                    const std::uint64_t limit =
+                        std::min({max_alloc * 3, limits.global_memory, limits.max_memory ? limits.max_memory : UINT64_MAX});
+                    const std::uint64_t fixed_bytes = fixed.device_bytes + fixed.host_bytes;
+                    const std::uint64_t available = limit > fixed_bytes ? limit - fixed_bytes : 0;
                     pool_too_large(header, options, out.spec, problem, used + fresh, out.points_read, available);
                 }
                 cl::Buffer bigger(ctx, CL_MEM_READ_WRITE, grown * brick_bytes);
