@@ -1,5 +1,6 @@
 // The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
 // simplify -> normals -> write each output, timed per stage and per output.
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/build_mesh.hpp"
 
 #include "lasmesh/error.hpp"
@@ -31,25 +32,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Detail lines use the same number forms as the command line's summary: shortest round trip,
-// two significant digits for timings, megabytes with one decimal.
-std::string shortest(double value) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-
-std::string two_digits(double value) {
-    std::ostringstream text;
-    text << std::setprecision(2) << value;
-    return text.str();
-}
-
-std::string megabytes(std::uint64_t bytes) {
-    std::ostringstream text;
-    text << std::fixed << std::setprecision(1) << bytes / 1e6 << " MB";
-    return text.str();
 }
 
 std::uint64_t peak_rss_bytes() {

@@ -16,31 +16,10 @@ using namespace lasmesh;
 
 namespace {
 
-using Row = std::map<std::string, std::string>;
+using test::Row;
 
-std::vector<std::string> split(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    std::string part;
-    std::istringstream in(text);
-    while (std::getline(in, part, separator)) parts.push_back(part);
-    if (!text.empty() && text.back() == separator) parts.emplace_back();
-    return parts;
-}
-
-std::vector<Row> read_manifest(const std::filesystem::path& folder) {
-    std::ifstream in(folder / "MANIFEST.tsv");
-    std::string line;
-    std::getline(in, line);
-    const std::vector<std::string> columns = split(line, '\t');
-    std::vector<Row> rows;
-    while (std::getline(in, line)) {
-        const std::vector<std::string> cells = split(line, '\t');
-        Row row;
-        for (std::size_t i = 0; i < columns.size() && i < cells.size(); ++i) row[columns[i]] = cells[i];
-        rows.push_back(row);
-    }
-    return rows;
-}
+using test::read_manifest;
+using test::split;
 
 Vec3 parse_vec3(const std::string& text) {
     const std::vector<std::string> parts = split(text, ',');

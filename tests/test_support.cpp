@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -161,6 +162,30 @@ Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const l
 lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options) {
     lasmesh::LasReader reader(path);
     return lasmesh::accumulate_density(reader, device(), options);
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::string part;
+    std::istringstream in(text);
+    while (std::getline(in, part, separator)) parts.push_back(part);
+    if (!text.empty() && text.back() == separator) parts.emplace_back();
+    return parts;
+}
+
+std::vector<Row> read_manifest(const std::filesystem::path& folder) {
+    std::ifstream in(folder / "MANIFEST.tsv");
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> columns = split(line, '\t');
+    std::vector<Row> rows;
+    while (std::getline(in, line)) {
+        const std::vector<std::string> cells = split(line, '\t');
+        Row row;
+        for (std::size_t i = 0; i < columns.size() && i < cells.size(); ++i) row[columns[i]] = cells[i];
+        rows.push_back(row);
+    }
+    return rows;
 }
 
 } // namespace test

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -77,5 +78,10 @@ Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const l
 
 // Every record of the LAS file at `path` accumulated on device().
 lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options = {});
+
+// A manifest of measured facts (../shared/data/*/MANIFEST.tsv): one row per file, by column name.
+using Row = std::map<std::string, std::string>;
+std::vector<Row> read_manifest(const std::filesystem::path& folder);
+std::vector<std::string> split(const std::string& text, char separator);
 
 } // namespace test

@@ -2,6 +2,7 @@
 #include "mesh_report.hpp"
 
 #include "json.hpp"
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/io/output_file.hpp"
 
 #include <filesystem>
@@ -11,19 +12,6 @@
 namespace lasmesh::cli {
 
 namespace {
-
-// Two significant digits: enough to judge a quantization step against a cell.
-std::string two_digits(double value) {
-    std::ostringstream text;
-    text << std::setprecision(2) << value;
-    return text.str();
-}
-
-std::string megabytes(std::uint64_t bytes) {
-    std::ostringstream text;
-    text << std::fixed << std::setprecision(1) << bytes / 1e6 << " MB";
-    return text.str();
-}
 
 const char* placement_name(VertexPlacement placement) {
     return placement == VertexPlacement::iso ? "iso" : "surface";

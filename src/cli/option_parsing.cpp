@@ -1,6 +1,7 @@
 // Option text parsers: strict (the whole text must be used) and quoting the text in each error.
 #include "option_parsing.hpp"
 
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
@@ -13,12 +14,6 @@ namespace lasmesh::cli {
 namespace {
 
 [[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
-
-// The shortest text that reads back as `value`: 1e-300, not 300 digits of std::to_string.
-std::string shortest(double value) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
 
 std::uint32_t parse_cells(const std::string& part, const std::string& whole) {
     std::uint32_t value = 0;

@@ -1,4 +1,5 @@
 // Parsing and validation of the LAS public header block and VLRs (LAS 1.4 R15, section 2).
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/read/las_header.hpp"
 
 #include "lasmesh/byte_order.hpp"
@@ -61,12 +62,6 @@ std::string printable(const std::byte* at, std::size_t size) {
         text += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c)) : "\\x" + hex_byte(c).substr(2);
     }
     return text;
-}
-
-// The shortest text that reads back as `value`: 1e+300, not the 301 digits of std::to_string.
-std::string shortest(double value) {
-    char buffer[32];
-    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
 
 // Reads exactly `size` bytes or throws, naming what was being read.

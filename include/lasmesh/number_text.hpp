@@ -1,0 +1,30 @@
+// Numbers as the library's detail lines and the command line's summary print them, so both agree:
+// shortest round trip, two significant digits for timings and steps, megabytes with one decimal.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <iomanip>
+#include <sstream>
+#include <string>
+
+namespace lasmesh {
+
+inline std::string shortest(double value) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
+
+inline std::string two_digits(double value) {
+    std::ostringstream text;
+    text << std::setprecision(2) << value;
+    return text.str();
+}
+
+inline std::string megabytes(std::uint64_t bytes) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << bytes / 1e6 << " MB";
+    return text.str();
+}
+
+} // namespace lasmesh
