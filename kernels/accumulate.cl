@@ -6,13 +6,17 @@
 // point. All sums are exact 64-bit integers, so the result does not depend on the order in which
 // points arrive, the slice size or the device.
 //
-// Three kernels per slice, so no work-item ever waits for another (a spin lock on first touch
-// can hang a CPU device that runs a work-group's items one after the other):
-//   mark_bricks    claims each untouched brick once (compare-and-swap) and lists it;
-//   assign_bricks  gives the listed bricks their slots in the pool, after the host made room;
-//   accumulate     adds each point to its cell. Consecutive records of a scan usually fall in the
-//                  same cell, so a work-item sums a run of RUN records privately and flushes once
-//                  per change of cell: far fewer atomics on acquisition-ordered input.
+// One pass over each slice, and more only where a slice meets bricks not yet in the pool, so no
+// work-item ever waits for another (a spin lock on first touch can hang a CPU device that runs a
+// work-group's items one after the other):
+//   accumulate        adds each point to its cell when the cell's brick is in the pool, and lists
+//                     the others (their bricks are new). Consecutive records of a scan often fall
+//                     in the same cell, so a work-item sums a run of RUN records privately and
+//                     flushes once per change of cell: fewer atomics on acquisition-ordered input.
+//   mark_bricks       claims each listed point's brick once (compare-and-swap) and lists it;
+//   assign_bricks     gives the new bricks their slots in the pool, after the host made room;
+//   accumulate_listed adds the listed points, now that their bricks are there.
+// Past the first slices almost every point finds its brick, so the whole slice is read once.
 //
 // Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, and RGB_OFFSET=n when the point
 // format has colour (byte offset of red).
@@ -76,15 +80,15 @@ uint brick_of(int x, int y, int z, uint bricks_x, uint bricks_y) {
     return ((uint)(z >> BRICK_BITS) * bricks_y + (uint)(y >> BRICK_BITS)) * bricks_x + (uint)(x >> BRICK_BITS);
 }
 
-kernel void mark_bricks(global const uchar* records, uint count, uint record_length, GRID_ARGS,
-                        volatile global uint* brick_slot, global uint* new_bricks, volatile global uint* new_count) {
+kernel void mark_bricks(global const uchar* records, global const uint* listed, uint count, uint record_length,
+                        GRID_ARGS, volatile global uint* brick_slot, global uint* new_bricks,
+                        volatile global uint* new_count) {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    global const uchar* record = records + (ulong)i * record_length;
+    global const uchar* record = records + (ulong)listed[i] * record_length;
     LOCATE(record, x, y, z, rx, ry, rz);
-    if (x < 0 || y < 0 || z < 0) return;
     const uint b = brick_of(x, y, z, bricks_x, bricks_y);
-    // Read first: almost every point finds its brick already there, and a plain read is cheap.
+    // Read first: points of one new brick are usually listed together, and a plain read is cheap.
     if (brick_slot[b] == 0 && atomic_cmpxchg(brick_slot + b, 0u, PENDING) == 0u) new_bricks[atomic_inc(new_count)] = b;
 }
 
@@ -109,17 +113,20 @@ void flush(global ulong* pool, ulong cell, ulong n, ulong sx, ulong sy, ulong sz
 #endif
 }
 
-kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
-                       global const uint* brick_slot, global ulong* pool, volatile global uint* stats) {
-    const uint first = get_global_id(0) * RUN;
-    if (first >= count) return;
-    const uint end = min(first + RUN, count);
-    // The run's current cell, by its grid coordinates and its place in the pool, and its sums.
+// Adds records first..end-1 of the slice, or of the list when `listed` is not null. Points whose
+// brick has no slot yet are appended to `deferred` instead (only when reading the slice).
+void accumulate_run(global const uchar* records, global const uint* listed, uint first, uint end, uint record_length,
+                    GRID_ARGS, global const uint* brick_slot, global ulong* pool, volatile global uint* stats,
+                    global uint* deferred, volatile global uint* deferred_count) {
+    // The run's current cell, by its grid coordinates and its place in the pool (or none when its
+    // brick is new), and its sums.
     int cx = -1, cy = -1, cz = -1;
+    bool in_pool = false;
     ulong cell = 0, n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
     uint outside = 0, largest = 0;
     for (uint i = first; i < end; ++i) {
-        global const uchar* record = records + (ulong)i * record_length;
+        const uint r = listed ? listed[i] : i;
+        global const uchar* record = records + (ulong)r * record_length;
         LOCATE(record, x, y, z, rx, ry, rz);
         if (x < 0 || y < 0 || z < 0) {
             ++outside;
@@ -129,21 +136,26 @@ kernel void accumulate(global const uchar* records, uint count, uint record_leng
             flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
             n = sx = sy = sz = sr = sg = sb = 0;
             cx = x, cy = y, cz = z;
-            const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)] - 1;
+            const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)];
+            in_pool = slot != 0;
             const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
-            cell = (ulong)slot * (B * B * B) + in_brick;
+            cell = (ulong)(slot - 1) * (B * B * B) + in_brick;
+        }
+        if (!in_pool) {
+            if (deferred) deferred[atomic_inc(deferred_count)] = r;
+            continue;
         }
         n += 1;
         sx += (ulong)(rx - starts_x[x]);
         sy += (ulong)(ry - starts_y[y]);
         sz += (ulong)(rz - starts_z[z]);
 #ifdef RGB_OFFSET
-        const uint r = load_u16(record + RGB_OFFSET), g = load_u16(record + RGB_OFFSET + 2),
-                   b = load_u16(record + RGB_OFFSET + 4);
-        sr += r;
-        sg += g;
-        sb += b;
-        largest = max(largest, max(r, max(g, b)));
+        const uint red = load_u16(record + RGB_OFFSET), green = load_u16(record + RGB_OFFSET + 2),
+                   blue = load_u16(record + RGB_OFFSET + 4);
+        sr += red;
+        sg += green;
+        sb += blue;
+        largest = max(largest, max(red, max(green, blue)));
 #endif
     }
     flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
@@ -151,4 +163,21 @@ kernel void accumulate(global const uchar* records, uint count, uint record_leng
     // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
     if (outside) add_sum((sum_ptr)stats, outside);
     if (largest > stats[2]) atomic_max(stats + 2, largest);
+}
+
+kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
+                       global const uint* brick_slot, global ulong* pool, volatile global uint* stats,
+                       global uint* deferred, volatile global uint* deferred_count) {
+    const uint first = get_global_id(0) * RUN;
+    if (first >= count) return;
+    accumulate_run(records, 0, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny, nz,
+                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, pool, stats, deferred, deferred_count);
+}
+
+kernel void accumulate_listed(global const uchar* records, global const uint* listed, uint count, uint record_length,
+                              GRID_ARGS, global const uint* brick_slot, global ulong* pool, volatile global uint* stats) {
+    const uint first = get_global_id(0) * RUN;
+    if (first >= count) return;
+    accumulate_run(records, listed, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny,
+                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, pool, stats, 0, 0);
 }

@@ -200,72 +200,66 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length);
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
-        cl::Kernel mark(program, "mark_bricks"), assign(program, "assign_bricks"), add(program, "accumulate");
+        cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
+            add_listed(program, "accumulate_listed");
 
         cl::Buffer index(ctx, CL_MEM_READ_WRITE, bricks * 4);
         queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
+        // The points of a slice whose bricks were new, and the bricks they claimed: each at most
+        // one per record.
+        cl::Buffer deferred(ctx, CL_MEM_READ_WRITE, slice_records * 4);
         cl::Buffer new_bricks(ctx, CL_MEM_READ_WRITE, slice_records * 4);
-        cl::Buffer new_count(ctx, CL_MEM_READ_WRITE, 4);
-        queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, 4);
+        cl::Buffer deferred_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint)), new_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+        queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
+        queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
         cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
         queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
         std::uint64_t capacity = std::min<std::uint64_t>(first_pool_bricks, std::max<std::uint64_t>(1, bricks));
         pool = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity * brick_bytes);
         queue.enqueueFillBuffer(pool, cl_ulong{0}, 0, capacity * brick_bytes);
 
-        // Arguments 3-13 (the grid) are the same for mark_bricks and accumulate.
+        // The grid's arguments (starts, cell counts, cells per raw unit, bricks along x and y) and
+        // the index come at the same place in each kernel, after `first` others.
         std::array<cl::Buffer, 3> starts_buffers; // kernel arguments do not keep buffers alive
+        const std::array<std::pair<cl::Kernel*, int>, 3> with_grid{{{&add, 3}, {&mark, 4}, {&add_listed, 4}}};
         for (int a = 0; a < 3; ++a) {
             std::vector<cl_long> starts(out.axes[a].starts.begin(), out.axes[a].starts.end());
             starts_buffers[a] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, starts.size() * sizeof(cl_long),
                                            starts.data());
             const double raw_span = static_cast<double>(starts.back() - starts.front());
-            for (cl::Kernel* k : {&mark, &add}) {
-                k->setArg(2, static_cast<cl_uint>(length));
-                k->setArg(3 + a, starts_buffers[a]);
-                k->setArg(6 + a, static_cast<cl_int>(out.axes[a].count()));
-                k->setArg(9 + a, static_cast<cl_float>(raw_span > 0 ? out.axes[a].count() / raw_span : 0.0));
+            for (const auto& [k, first] : with_grid) {
+                k->setArg(first + a, starts_buffers[a]);
+                k->setArg(first + 3 + a, static_cast<cl_int>(out.axes[a].count()));
+                k->setArg(first + 6 + a, static_cast<cl_float>(raw_span > 0 ? out.axes[a].count() / raw_span : 0.0));
             }
         }
-        for (cl::Kernel* k : {&mark, &add}) {
-            k->setArg(12, static_cast<cl_uint>(out.bricks[0]));
-            k->setArg(13, static_cast<cl_uint>(out.bricks[1]));
-            k->setArg(14, index);
+        for (const auto& [k, first] : with_grid) {
+            k->setArg(first - 1, static_cast<cl_uint>(length));
+            k->setArg(first + 9, static_cast<cl_uint>(out.bricks[0]));
+            k->setArg(first + 10, static_cast<cl_uint>(out.bricks[1]));
+            k->setArg(first + 11, index);
         }
-        mark.setArg(15, new_bricks);
-        mark.setArg(16, new_count);
+        add.setArg(16, stats);
+        add.setArg(17, deferred);
+        add.setArg(18, deferred_count);
+        mark.setArg(1, deferred);
+        mark.setArg(16, new_bricks);
+        mark.setArg(17, new_count);
         assign.setArg(0, new_bricks);
         assign.setArg(3, index);
-        add.setArg(16, stats);
+        add_listed.setArg(1, deferred);
+        add_listed.setArg(17, stats);
 
-        // Double buffering: the host reads slice k + 1 into one mapped buffer while the device
-        // adds slice k from the other; a buffer is mapped again only after its kernels ended.
-        std::array<cl::Buffer, slots> uploads;
-        std::array<cl::Event, slots> done;
-        for (std::size_t s = 0; s < slots; ++s)
-            uploads[s] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
-        for (std::uint64_t k = 0;; ++k) {
-            const std::size_t s = k % slots;
-            if (done[s]()) done[s].wait();
-            auto* mapped = static_cast<std::byte*>(queue.enqueueMapBuffer(uploads[s], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, slice_bytes));
-            std::size_t n = 0;
-            try {
-                n = reader.read_records({mapped, slice_bytes});
-            } catch (...) {
-                queue.enqueueUnmapMemObject(uploads[s], mapped);
-                queue.finish();
-                throw;
-            }
-            queue.enqueueUnmapMemObject(uploads[s], mapped);
-            if (n == 0) break;
-            out.points_read += n;
-            if (options.on_slice) options.on_slice(out.points_read);
-            const std::size_t global_points = (n + 255) / 256 * 256;
-            mark.setArg(0, uploads[s]);
-            mark.setArg(1, static_cast<cl_uint>(n));
-            queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange(global_points), cl::NullRange);
-            cl_uint fresh = 0;
-            queue.enqueueReadBuffer(new_count, CL_TRUE, 0, 4, &fresh);
+        // The points of the slice in `records` whose bricks were new: their bricks get slots (the
+        // pool grows first when it must), then the points are added.
+        auto add_deferred = [&](const cl::Buffer& records) {
+            cl_uint listed = 0, fresh = 0;
+            queue.enqueueReadBuffer(deferred_count, CL_TRUE, 0, sizeof listed, &listed);
+            if (listed == 0) return;
+            mark.setArg(0, records);
+            mark.setArg(2, listed);
+            queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), cl::NullRange);
+            queue.enqueueReadBuffer(new_count, CL_TRUE, 0, sizeof fresh, &fresh);
             if (used + fresh > capacity) {
                 // Grow the pool: a new buffer, the bricks so far copied over, the rest zero.
                 std::uint64_t grown = std::max(capacity * 2, used + fresh);
@@ -287,21 +281,64 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 queue.enqueueFillBuffer(bigger, cl_ulong{0}, used * brick_bytes, (grown - used) * brick_bytes);
                 pool = bigger;
                 capacity = grown;
+                add.setArg(15, pool);
             }
             if (fresh > 0) {
                 assign.setArg(1, fresh);
                 assign.setArg(2, static_cast<cl_uint>(used));
                 queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), cl::NullRange);
-                queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, 4);
                 used += fresh;
             }
+            add_listed.setArg(0, records);
+            add_listed.setArg(2, listed);
+            add_listed.setArg(16, pool);
+            const std::size_t items = (listed + run_length - 1) / run_length;
+            queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange);
+            queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
+            queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
+        };
+
+        // Double buffering: the host reads slice k + 1 into one mapped buffer while the device
+        // adds slice k from the other. Maps go through a queue of their own, so that mapping one
+        // buffer waits only for the kernels that used it, not for the slice still being added.
+        // The points slice k could not add yet are added once slice k + 1 is read, before it.
+        cl::CommandQueue transfers(ctx, dev.device);
+        add.setArg(15, pool);
+        std::array<cl::Buffer, slots> uploads;
+        std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
+        for (std::size_t s = 0; s < slots; ++s)
+            uploads[s] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
+        for (std::uint64_t k = 0;; ++k) {
+            const std::size_t s = k % slots;
+            auto* mapped = static_cast<std::byte*>(
+                transfers.enqueueMapBuffer(uploads[s], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, slice_bytes, &done[s]));
+            std::size_t n = 0;
+            try {
+                n = reader.read_records({mapped, slice_bytes});
+            } catch (...) {
+                transfers.enqueueUnmapMemObject(uploads[s], mapped);
+                transfers.finish();
+                queue.finish();
+                throw;
+            }
+            std::vector<cl::Event> unmapped(1);
+            transfers.enqueueUnmapMemObject(uploads[s], mapped, nullptr, &unmapped[0]);
+            if (k > 0) {
+                const std::size_t previous = (k - 1) % slots;
+                add_deferred(uploads[previous]);
+                done[previous].resize(1);
+                queue.enqueueMarkerWithWaitList(nullptr, &done[previous][0]);
+            }
+            if (n == 0) break;
+            out.points_read += n;
+            if (options.on_slice) options.on_slice(out.points_read);
             add.setArg(0, uploads[s]);
             add.setArg(1, static_cast<cl_uint>(n));
-            add.setArg(15, pool);
             const std::size_t items = (n + run_length - 1) / run_length;
-            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange, nullptr, &done[s]);
+            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange, &unmapped);
             queue.flush();
         }
+        queue.finish();
 
         cl_uint stat_words[4] = {};
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
