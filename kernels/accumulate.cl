@@ -18,8 +18,12 @@
 //   accumulate_listed adds the listed points, now that their bricks are there.
 // Past the first slices almost every point finds its brick, so the whole slice is read once.
 //
-// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, and RGB_OFFSET=n when the point
-// format has colour (byte offset of red).
+// The pool of bricks is up to 12 buffers ("chunks"), so it grows without copying and beyond a
+// device's largest allocation: chunk c holds 2^FIRST_BITS << min(c, DOUBLINGS) bricks (they
+// double, then stay at the largest allocation), in the order of the bricks' slots.
+//
+// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, and
+// RGB_OFFSET=n when the point format has colour (byte offset of red).
 //
 // Cell record, 64-bit words: count, sum x, sum y, sum z (raw LAS units from the cell's start),
 // then with colour the sums of red, green, blue and one unused word (64 bytes: one cache line).
@@ -92,16 +96,51 @@ kernel void mark_bricks(global const uchar* records, global const uint* listed, 
     if (brick_slot[b] == 0 && atomic_cmpxchg(brick_slot + b, 0u, PENDING) == 0u) new_bricks[atomic_inc(new_count)] = b;
 }
 
-// Slot s + 1 in the index (0 means no brick); the pool's bricks s are zero already.
+// Slot s + 1 in the index (0 means no brick); the host zeroed the pool's bricks s already.
 kernel void assign_bricks(global const uint* new_bricks, uint count, uint first_slot, global uint* brick_slot) {
     const uint i = get_global_id(0);
     if (i < count) brick_slot[new_bricks[i]] = first_slot + i + 1;
 }
 
-// Adds a run's sums to its cell's record (pool words: count, x, y, z, then red, green, blue).
-void flush(global ulong* pool, ulong cell, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b) {
+#define POOL_ARGS                                                                                      \
+    global ulong *pool0, global ulong *pool1, global ulong *pool2, global ulong *pool3, global ulong *pool4,  \
+        global ulong *pool5, global ulong *pool6, global ulong *pool7, global ulong *pool8, global ulong *pool9, \
+        global ulong *pool10, global ulong *pool11
+#define POOL pool0, pool1, pool2, pool3, pool4, pool5, pool6, pool7, pool8, pool9, pool10, pool11
+
+// The first word of the brick in pool slot `slot` (see the chunk layout above).
+global ulong* brick_words(uint slot, POOL_ARGS) {
+    const uint q = (slot >> FIRST_BITS) + 1;
+    uint chunk, at;
+    if (q < (2u << DOUBLINGS)) {
+        chunk = 31 - clz(q); // chunk c starts at slot (2^c - 1) << FIRST_BITS
+        at = slot - (((1u << chunk) - 1) << FIRST_BITS);
+    } else {
+        const uint rest = slot - (((2u << DOUBLINGS) - 1) << FIRST_BITS);
+        chunk = DOUBLINGS + 1 + (rest >> (FIRST_BITS + DOUBLINGS));
+        at = rest & ((1u << (FIRST_BITS + DOUBLINGS)) - 1);
+    }
+    global ulong* base;
+    switch (chunk) {
+    case 0: base = pool0; break;
+    case 1: base = pool1; break;
+    case 2: base = pool2; break;
+    case 3: base = pool3; break;
+    case 4: base = pool4; break;
+    case 5: base = pool5; break;
+    case 6: base = pool6; break;
+    case 7: base = pool7; break;
+    case 8: base = pool8; break;
+    case 9: base = pool9; break;
+    case 10: base = pool10; break;
+    default: base = pool11; break;
+    }
+    return base + (ulong)at * (B * B * B * CELL_WORDS);
+}
+
+// Adds a run's sums to its cell's record (words: count, x, y, z, then red, green, blue).
+void flush(global ulong* record, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b) {
     if (n == 0) return;
-    global ulong* record = pool + cell * CELL_WORDS;
     add_sum((sum_ptr)record, n);
     if (sx) add_sum((sum_ptr)(record + 1), sx);
     if (sy) add_sum((sum_ptr)(record + 2), sy);
@@ -116,13 +155,14 @@ void flush(global ulong* pool, ulong cell, ulong n, ulong sx, ulong sy, ulong sz
 // Adds records first..end-1 of the slice, or of the list when `listed` is not null. Points whose
 // brick has no slot yet are appended to `deferred` instead (only when reading the slice).
 void accumulate_run(global const uchar* records, global const uint* listed, uint first, uint end, uint record_length,
-                    GRID_ARGS, global const uint* brick_slot, global ulong* pool, volatile global uint* stats,
+                    GRID_ARGS, global const uint* brick_slot, POOL_ARGS, volatile global uint* stats,
                     global uint* deferred, volatile global uint* deferred_count) {
     // The run's current cell, by its grid coordinates and its place in the pool (or none when its
     // brick is new), and its sums.
     int cx = -1, cy = -1, cz = -1;
     bool in_pool = false;
-    ulong cell = 0, n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
+    global ulong* cell = 0;
+    ulong n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
     uint outside = 0, largest = 0;
     for (uint i = first; i < end; ++i) {
         const uint r = listed ? listed[i] : i;
@@ -133,13 +173,13 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
             continue;
         }
         if (x != cx || y != cy || z != cz) {
-            flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
+            flush(cell, n, sx, sy, sz, sr, sg, sb);
             n = sx = sy = sz = sr = sg = sb = 0;
             cx = x, cy = y, cz = z;
             const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)];
             in_pool = slot != 0;
             const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
-            cell = (ulong)(slot - 1) * (B * B * B) + in_brick;
+            if (in_pool) cell = brick_words(slot - 1, POOL) + in_brick * CELL_WORDS;
         }
         if (!in_pool) {
             if (deferred) deferred[atomic_inc(deferred_count)] = r;
@@ -158,7 +198,7 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
         largest = max(largest, max(red, max(green, blue)));
 #endif
     }
-    flush(pool, cell, n, sx, sy, sz, sr, sg, sb);
+    flush(cell, n, sx, sy, sz, sr, sg, sb);
     // stats[0..1]: points outside the grid, a 64-bit sum; stats[2]: the largest colour word, which
     // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
     if (outside) add_sum((sum_ptr)stats, outside);
@@ -166,18 +206,18 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
 }
 
 kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
-                       global const uint* brick_slot, global ulong* pool, volatile global uint* stats,
+                       global const uint* brick_slot, POOL_ARGS, volatile global uint* stats,
                        global uint* deferred, volatile global uint* deferred_count) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
     accumulate_run(records, 0, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny, nz,
-                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, pool, stats, deferred, deferred_count);
+                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, stats, deferred, deferred_count);
 }
 
 kernel void accumulate_listed(global const uchar* records, global const uint* listed, uint count, uint record_length,
-                              GRID_ARGS, global const uint* brick_slot, global ulong* pool, volatile global uint* stats) {
+                              GRID_ARGS, global const uint* brick_slot, POOL_ARGS, volatile global uint* stats) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
     accumulate_run(records, listed, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny,
-                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, pool, stats, 0, 0);
+                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, stats, 0, 0);
 }

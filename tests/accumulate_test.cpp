@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <bit>
 #include <cmath>
 
 using namespace lasmesh;
@@ -170,6 +171,16 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
     CHECK(dense(g).count == dense(whole).count);
     CHECK(dense(g).green == dense(whole).green);
     CHECK(sums_equal(g, whole));
+
+    // A pool spread over many small buffers (chunks of 1/8 to 1/4 of it: 5 to 8 of them) holds
+    // the same sums.
+    AccumulateOptions chunked = options;
+    chunked.max_alloc = std::bit_ceil(whole.brick_keys.size() / 8) * brick_device_bytes(true);
+    chunked.slice_bytes = 4096 * record;
+    REQUIRE(whole.brick_keys.size() >= 64);
+    const DensityGrid c = accumulate_file(dir.file("deck.las"), chunked);
+    CHECK(c.brick_keys == whole.brick_keys);
+    CHECK(sums_equal(c, whole));
 }
 
 TEST_CASE("8-bit colour in 16-bit fields and true 16-bit colour give the same mean colours") {

@@ -4,6 +4,8 @@
 // bricks large enough for every slice before the slice's points are added.
 #include "lasmesh/grid/density_grid.hpp"
 
+#include "brick_pool.hpp"
+#include "host_memory.hpp"
 #include "kernel_sources.hpp"
 #include "lasmesh/error.hpp"
 #include "opencl_device.hpp"
@@ -23,7 +25,6 @@ constexpr std::size_t slots = 2; // one slice being read while the device works 
 // Records one work-item sums before it flushes: long enough to merge the runs of a scan in
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
-constexpr std::uint64_t first_pool_bricks = 1024;
 
 std::string mib(std::uint64_t bytes) {
     char text[32];
@@ -107,9 +108,9 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
     // early. Between the two: at most twice the bricks seen so far.
     const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
     const double growth = std::min(2.0, 1 / std::min(1.0, seen));
-    // A brick costs its bytes up to three times on the device while the pool doubles (old and
-    // new buffer), and about once more on the host when it is read back.
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * 4;
+    // The pool's chunks double, so the device holds up to twice the bricks in use, and the host
+    // about once more when they are read back.
+    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * 3;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
     throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
@@ -118,6 +119,24 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
                                       (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
                                       " (nothing was written)");
     (void)options;
+}
+
+// The pool's first chunk, counted before reading (bricks with colour, the larger kind).
+std::uint64_t first_chunk_bytes(const GridSpec& grid) {
+    return std::min<std::uint64_t>(1024, brick_count(grid)) * DensityGrid::brick_cells * cell_words(true) * 8;
+}
+
+// Moves brick s of `cells` to brick place[s], for every s: cycle by cycle, in place, so sorting
+// the bricks takes no second copy of the grid.
+void put_bricks_in_order(std::vector<CellSums>& cells, std::vector<std::uint64_t> place) {
+    constexpr std::int64_t n = DensityGrid::brick_cells;
+    for (std::uint64_t s = 0; s < place.size(); ++s)
+        while (place[s] != s) {
+            const std::uint64_t t = place[s];
+            std::swap_ranges(cells.begin() + static_cast<std::ptrdiff_t>(s * n), cells.begin() + static_cast<std::ptrdiff_t>((s + 1) * n),
+                             cells.begin() + static_cast<std::ptrdiff_t>(t * n));
+            std::swap(place[s], place[t]);
+        }
 }
 
 } // namespace
@@ -153,8 +172,9 @@ MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {
     MemoryNeed need;
     const std::uint64_t index_bytes = brick_count(grid) * 4;
     need.largest_buffer = index_bytes;
-    // The index, the slices and the list of bricks new in a slice (at most one per record).
-    need.device_bytes = index_bytes + slots * slice_bytes + slice_bytes / 4;
+    // The index, the slices, the lists of points deferred and of bricks new in a slice (at most
+    // one per record of 20 bytes or more), and the pool's first chunk (up to 1024 bricks).
+    need.device_bytes = index_bytes + slots * slice_bytes + 2 * (slice_bytes / 4) + first_chunk_bytes(grid);
     // The index read back; the slices are mapped device memory.
     need.host_bytes = index_bytes;
     return need;
@@ -192,12 +212,16 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     std::vector<std::uint32_t> slot_of_brick;
     std::vector<std::byte> pool_copy_block;
     std::uint64_t used = 0;
-    cl::Buffer pool;
+    const PoolLayout layout = pool_layout(std::max<std::uint64_t>(1, max_alloc / brick_bytes));
+    std::vector<cl::Buffer> chunks;
+    std::vector<HostMemory> chunk_memory; // a CPU device's chunks, in host memory we allocate
+    const bool host_device = dev.info.type == "CPU";
 
     try {
         cl::Context& ctx = dev.context;
         cl::CommandQueue& queue = dev.queue;
-        std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length);
+        std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
+                              " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
@@ -214,9 +238,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
         cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
         queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
-        std::uint64_t capacity = std::min<std::uint64_t>(first_pool_bricks, std::max<std::uint64_t>(1, bricks));
-        pool = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity * brick_bytes);
-        queue.enqueueFillBuffer(pool, cl_ulong{0}, 0, capacity * brick_bytes);
 
         // The grid's arguments (starts, cell counts, cells per raw unit, bricks along x and y) and
         // the index come at the same place in each kernel, after `first` others.
@@ -239,16 +260,22 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             k->setArg(first + 10, static_cast<cl_uint>(out.bricks[1]));
             k->setArg(first + 11, index);
         }
-        add.setArg(16, stats);
-        add.setArg(17, deferred);
-        add.setArg(18, deferred_count);
+        // Then the pool's chunks (null until they exist), stats, and the list of deferred points.
+        constexpr int pool_arg_add = 15, pool_arg_listed = 16, chunk_args = PoolLayout::max_chunks;
+        for (int c = 0; c < chunk_args; ++c) {
+            add.setArg(pool_arg_add + c, cl::Buffer());
+            add_listed.setArg(pool_arg_listed + c, cl::Buffer());
+        }
+        add.setArg(pool_arg_add + chunk_args, stats);
+        add.setArg(pool_arg_add + chunk_args + 1, deferred);
+        add.setArg(pool_arg_add + chunk_args + 2, deferred_count);
         mark.setArg(1, deferred);
         mark.setArg(16, new_bricks);
         mark.setArg(17, new_count);
         assign.setArg(0, new_bricks);
         assign.setArg(3, index);
         add_listed.setArg(1, deferred);
-        add_listed.setArg(17, stats);
+        add_listed.setArg(pool_arg_listed + chunk_args, stats);
 
         // The points of the slice in `records` whose bricks were new: their bricks get slots (the
         // pool grows first when it must), then the points are added.
@@ -260,30 +287,46 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             mark.setArg(2, listed);
             queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), cl::NullRange);
             queue.enqueueReadBuffer(new_count, CL_TRUE, 0, sizeof fresh, &fresh);
-            if (used + fresh > capacity) {
-                // Grow the pool: a new buffer, the bricks so far copied over, the rest zero.
-                std::uint64_t grown = std::max(capacity * 2, used + fresh);
-                grown = std::min(grown, std::max(used + fresh, max_alloc / brick_bytes));
-                const MemoryNeed need{fixed.device_bytes + (capacity + grown) * brick_bytes,
+            while (used + fresh > layout.chunk_start(static_cast<unsigned>(chunks.size()))) {
+                // Another chunk; nothing moves.
+                const auto c = static_cast<unsigned>(chunks.size());
+                const std::uint64_t capacity = layout.chunk_start(c + 1);
+                const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + capacity * brick_bytes,
                                       fixed.host_bytes + (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums),
-                                      grown * brick_bytes};
-                const std::string problem = exceeded(need, limits, "the pool of bricks");
+                                      layout.chunk_bricks(c) * brick_bytes};
+                std::string problem = c == PoolLayout::max_chunks
+                                          ? "it needs more than " + std::to_string(PoolLayout::max_chunks) + " buffers of up to " +
+                                                mib(layout.chunk_bricks(c) * brick_bytes) + " (the device's largest allocation)"
+                                          : exceeded(need, limits, "the pool of bricks");
                 if (!problem.empty()) {
                     queue.finish();
-                    const std::uint64_t limit =
-                        std::min({max_alloc * 3, limits.global_memory, limits.max_memory ? limits.max_memory : UINT64_MAX});
+                    const std::uint64_t limit = std::min(
+                        {layout.chunk_start(PoolLayout::max_chunks) * brick_bytes, limits.global_memory,
+                         limits.max_memory ? limits.max_memory : UINT64_MAX});
                     const std::uint64_t fixed_bytes = fixed.device_bytes + fixed.host_bytes;
                     const std::uint64_t available = limit > fixed_bytes ? limit - fixed_bytes : 0;
                     pool_too_large(header, options, out.spec, problem, used + fresh, out.points_read, available);
                 }
-                cl::Buffer bigger(ctx, CL_MEM_READ_WRITE, grown * brick_bytes);
-                if (used > 0) queue.enqueueCopyBuffer(pool, bigger, 0, 0, used * brick_bytes);
-                queue.enqueueFillBuffer(bigger, cl_ulong{0}, used * brick_bytes, (grown - used) * brick_bytes);
-                pool = bigger;
-                capacity = grown;
-                add.setArg(15, pool);
+                const std::uint64_t chunk_bytes = layout.chunk_bricks(c) * brick_bytes;
+                if (host_device) {
+                    chunk_memory.emplace_back(chunk_bytes);
+                    chunks.emplace_back(ctx, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, chunk_bytes, chunk_memory.back().data());
+                } else {
+                    chunks.emplace_back(ctx, CL_MEM_READ_WRITE, chunk_bytes);
+                }
+                add.setArg(pool_arg_add + static_cast<int>(c), chunks.back());
+                add_listed.setArg(pool_arg_listed + static_cast<int>(c), chunks.back());
             }
             if (fresh > 0) {
+                // The new bricks start at zero: host memory is mapped zeroed; device chunks are not
+                // cleared when made, only as they are used.
+                for (unsigned c = 0; !host_device && c < chunks.size(); ++c) {
+                    const std::uint64_t first = std::max(used, layout.chunk_start(c));
+                    const std::uint64_t end = std::min(used + fresh, layout.chunk_start(c + 1));
+                    if (first < end)
+                        queue.enqueueFillBuffer(chunks[c], cl_ulong{0}, (first - layout.chunk_start(c)) * brick_bytes,
+                                                (end - first) * brick_bytes);
+                }
                 assign.setArg(1, fresh);
                 assign.setArg(2, static_cast<cl_uint>(used));
                 queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), cl::NullRange);
@@ -291,7 +334,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             }
             add_listed.setArg(0, records);
             add_listed.setArg(2, listed);
-            add_listed.setArg(16, pool);
             const std::size_t items = (listed + run_length - 1) / run_length;
             queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange);
             queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
@@ -303,7 +345,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // buffer waits only for the kernels that used it, not for the slice still being added.
         // The points slice k could not add yet are added once slice k + 1 is read, before it.
         cl::CommandQueue transfers(ctx, dev.device);
-        add.setArg(15, pool);
         std::array<cl::Buffer, slots> uploads;
         std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
         for (std::size_t s = 0; s < slots; ++s)
@@ -356,24 +397,36 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             out.brick_keys.push_back(b);
             at = static_cast<std::uint32_t>(out.brick_keys.size());
         }
-        // Read the pool back in blocks, each brick straight to its place.
-        out.cells.resize(used * DensityGrid::brick_cells);
+        // Read the pool back chunk by chunk in slot order, releasing each chunk once read, so the
+        // device's copy shrinks while the host's grows; then put the bricks in ascending order.
+        for (int c = 0; c < chunk_args; ++c) {
+            add.setArg(pool_arg_add + c, cl::Buffer());
+            add_listed.setArg(pool_arg_listed + c, cl::Buffer());
+        }
+        out.cells.reserve(used * DensityGrid::brick_cells);
+        advise_large_pages(out.cells.data(), out.cells.capacity() * sizeof(CellSums));
         const std::uint64_t words = cell_words(color);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes);
         std::vector<cl_ulong> block(block_bricks * DensityGrid::brick_cells * words);
-        for (std::uint64_t first = 0; first < used; first += block_bricks) {
-            const std::uint64_t n = std::min(block_bricks, used - first);
-            queue.enqueueReadBuffer(pool, CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
-            for (std::uint64_t s = 0; s < n; ++s) {
-                CellSums* dst = &out.cells[position_of_slot[first + s] * DensityGrid::brick_cells];
-                const cl_ulong* src = &block[s * DensityGrid::brick_cells * words];
-                for (std::int64_t c = 0; c < DensityGrid::brick_cells; ++c, src += words) {
-                    dst[c].count = src[0];
-                    dst[c].position = {src[1], src[2], src[3]};
-                    if (color) dst[c].color = {src[4], src[5], src[6]};
+        for (unsigned c = 0; c < chunks.size(); ++c) {
+            const std::uint64_t start = layout.chunk_start(c);
+            const std::uint64_t in_chunk = used > start ? std::min(layout.chunk_bricks(c), used - start) : 0;
+            for (std::uint64_t first = 0; first < in_chunk; first += block_bricks) {
+                const std::uint64_t n = std::min(block_bricks, in_chunk - first);
+                queue.enqueueReadBuffer(chunks[c], CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
+                if (c < chunk_memory.size()) chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
+                for (const cl_ulong* src = block.data(); src < block.data() + n * DensityGrid::brick_cells * words; src += words) {
+                    CellSums cell;
+                    cell.count = src[0];
+                    cell.position = {src[1], src[2], src[3]};
+                    if (color) cell.color = {src[4], src[5], src[6]};
+                    out.cells.push_back(cell);
                 }
             }
+            chunks[c] = cl::Buffer();
+            if (c < chunk_memory.size()) chunk_memory[c] = HostMemory();
         }
+        put_bricks_in_order(out.cells, std::move(position_of_slot));
     } catch (const cl::Error& e) {
         throw_device_error(e, "accumulating the grid on " + dev.info.name);
     }
