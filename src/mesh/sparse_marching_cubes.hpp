@@ -108,6 +108,8 @@ public:
 
         // Pass 3: fill vertices and triangles, each brick at its own offsets.
         tbb::parallel_for(std::size_t{0}, n, [&](std::size_t b) {
+            // Most bricks around the data hold nothing: they were sampled once, not again.
+            if (vertices_in[b + 1] == vertices_in[b] && triangles_in[b + 1] == triangles_in[b]) return;
             Brick brick(*this, l_.active[b]);
             std::uint64_t v = vertices_in[b];
             for (int p = 0; p < cells; ++p)
@@ -251,13 +253,14 @@ private:
 };
 
 // The bricks of a lattice of `points` that hold every lattice point within `reach` below and
-// reach + 1 above an occupied cell's index (a lattice of cell centres, padded, has reach 0; one
-// of corners sampled a cell beyond the corners of occupied cells has reach 1).
-inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::int64_t, 3> points, int reach = 0) {
+// reach + 1 above a cell of the grid's bricks `keys` (a lattice of cell centres, padded, has
+// reach 0; one of corners sampled a cell beyond the corners of occupied cells has reach 1).
+inline LatticeBricks lattice_near_bricks(const DensityGrid& grid, const std::vector<std::uint64_t>& keys,
+                                         std::array<std::int64_t, 3> points, int reach) {
     LatticeBricks lattice(points);
     static_assert(LatticeBricks::size == DensityGrid::brick_size, "lattice and grid bricks align");
     std::vector<std::uint64_t>& active = lattice.active;
-    for (std::uint64_t key : grid.brick_keys) {
+    for (std::uint64_t key : keys) {
         const std::int64_t bx = key % grid.bricks[0], by = key / grid.bricks[0] % grid.bricks[1],
                            bz = key / grid.bricks[0] / grid.bricks[1];
         for (std::int64_t z = bz - reach; z <= bz + 1; ++z)
@@ -269,6 +272,11 @@ inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::
     std::sort(active.begin(), active.end());
     active.erase(std::unique(active.begin(), active.end()), active.end());
     return lattice;
+}
+
+// The same around every occupied brick.
+inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::int64_t, 3> points, int reach = 0) {
+    return lattice_near_bricks(grid, grid.brick_keys, points, reach);
 }
 
 template <class Field>

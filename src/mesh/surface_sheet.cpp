@@ -8,6 +8,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
+#include <cassert>
 #include <cmath>
 
 namespace lasmesh {
@@ -190,6 +192,7 @@ struct SheetField {
         std::array<std::int64_t, 3> first; // the first cell held
         std::int64_t span;                 // cells held per axis
         std::vector<std::uint32_t> plane;  // per held cell, x fastest
+        std::vector<std::uint16_t> row;    // per held row (y, z): bit x set where a plane is
         bool empty = true;                 // no surface cell near the block: nothing defined
 
         std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -217,7 +220,10 @@ struct SheetField {
             if (nearest == no_plane)
                 for (std::int64_t cz = z - 2; cz <= z + 1; ++cz)
                     for (std::int64_t cy = y - 2; cy <= y + 1; ++cy)
-                        for (std::int64_t cx = x - 2; cx <= x + 1; ++cx) consider(cx, cy, cz);
+                        // Only the cells with a plane, in the same order (x rising).
+                        for (unsigned bits = (row[static_cast<std::size_t>((cz - first[2]) * span + (cy - first[1]))] >> (x - 2 - first[0])) & 0xFu;
+                             bits != 0; bits &= bits - 1)
+                            consider(x - 2 + std::countr_zero(bits), cy, cz);
             if (nearest == no_plane) return {};
             const Vec& m = planes.centroid[nearest];
             const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
@@ -225,15 +231,35 @@ struct SheetField {
         }
     };
     Sampler sampler(const std::array<std::int64_t, 3>& first_corner, std::int64_t n) const {
-        Sampler s{*this, {first_corner[0] - 2, first_corner[1] - 2, first_corner[2] - 2}, n + 3, {}};
-        s.plane.resize(static_cast<std::size_t>(s.span * s.span * s.span));
-        std::size_t i = 0;
-        for (std::int64_t z = 0; z < s.span; ++z)
-            for (std::int64_t y = 0; y < s.span; ++y)
-                for (std::int64_t x = 0; x < s.span; ++x) {
-                    s.plane[i] = planes.at(s.first[0] + x, s.first[1] + y, s.first[2] + z);
-                    s.empty = s.empty && s.plane[i] == no_plane;
-                    ++i;
+        Sampler s{*this, {first_corner[0] - 2, first_corner[1] - 2, first_corner[2] - 2}, n + 3, {}, {}};
+        s.plane.assign(static_cast<std::size_t>(s.span * s.span * s.span), no_plane);
+        s.row.assign(static_cast<std::size_t>(s.span * s.span), 0);
+        assert(s.span <= 16);
+        // Copied from the grid's bricks that overlap the held cells: one index lookup a brick.
+        const DensityGrid& g = planes.grid;
+        constexpr int bits = DensityGrid::brick_bits;
+        constexpr std::int64_t size = DensityGrid::brick_size;
+        std::array<std::int64_t, 3> lo{}, hi{};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max<std::int64_t>(s.first[a] >> bits, 0);
+            hi[a] = std::min<std::int64_t>((s.first[a] + s.span - 1) >> bits, std::int64_t{g.bricks[a]} - 1);
+        }
+        for (std::int64_t bz = lo[2]; bz <= hi[2]; ++bz)
+            for (std::int64_t by = lo[1]; by <= hi[1]; ++by)
+                for (std::int64_t bx = lo[0]; bx <= hi[0]; ++bx) {
+                    const std::uint32_t at = g.brick_index[(std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx)];
+                    if (at == 0) continue;
+                    const std::uint32_t* records = &planes.of_record[(at - 1) * static_cast<std::uint64_t>(DensityGrid::brick_cells)];
+                    for (std::int64_t z = std::max(bz * size, s.first[2]); z < std::min((bz + 1) * size, s.first[2] + s.span); ++z)
+                        for (std::int64_t y = std::max(by * size, s.first[1]); y < std::min((by + 1) * size, s.first[1] + s.span); ++y)
+                            for (std::int64_t x = std::max(bx * size, s.first[0]); x < std::min((bx + 1) * size, s.first[0] + s.span); ++x) {
+                                const std::uint32_t p = records[((z - bz * size) * size + (y - by * size)) * size + (x - bx * size)];
+                                if (p == no_plane) continue;
+                                const std::size_t row = static_cast<std::size_t>((z - s.first[2]) * s.span + (y - s.first[1]));
+                                s.plane[row * static_cast<std::size_t>(s.span) + static_cast<std::size_t>(x - s.first[0])] = p;
+                                s.row[row] = static_cast<std::uint16_t>(s.row[row] | 1u << (x - s.first[0]));
+                                s.empty = false;
+                            }
                 }
         return s;
     }
@@ -279,7 +305,14 @@ Mesh extract_sheet(const DensityGrid& grid, double iso) {
     estimate_normals(planes);
     orient_normals(planes);
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
-    Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points, 1), grid.has_color());
+    // Corners are sampled only near surface cells: the bricks that hold one, and their neighbours.
+    std::vector<std::uint64_t> surface_bricks;
+    for (std::uint64_t b = 0; b < grid.brick_keys.size(); ++b)
+        if (std::any_of(planes.of_record.begin() + static_cast<std::ptrdiff_t>(b * DensityGrid::brick_cells),
+                        planes.of_record.begin() + static_cast<std::ptrdiff_t>((b + 1) * DensityGrid::brick_cells),
+                        [](std::uint32_t p) { return p != no_plane; }))
+            surface_bricks.push_back(grid.brick_keys[b]);
+    Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color());
     agree_normals_with_faces(mesh);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
