@@ -18,13 +18,16 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <memory>
 #include <sstream>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace lasmesh {
 
@@ -32,6 +35,14 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Resident memory now (Linux: /proc/self/statm, in pages); 0 where unknown.
+std::uint64_t resident_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    std::uint64_t size = 0, resident = 0;
+    if (!(statm >> size >> resident)) return 0;
+    return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
 
 std::uint64_t peak_rss_bytes() {
@@ -70,15 +81,49 @@ std::string mesh_name(const std::string& input) {
     return input == "-" || stem.empty() ? "lasmesh" : stem;
 }
 
+// The most points any cell holds.
+std::uint64_t fullest(const DensityGrid& grid) {
+    std::uint64_t most = 0;
+    for (const CellSums& cell : grid.cells) most = std::max(most, cell.count);
+    return most;
+}
+
+// Refuses, before extracting, a surface whose extraction and outputs would take the run past
+// --max-memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
+// the deck at grids 256-2048, rounded up: the cell's plane, normal and orientation links, the
+// mesh around it; the Draco and glTF encoders' copy of the mesh.
+void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o, const std::string& input,
+                             std::uint64_t in_use_before_grid) {
+    std::uint64_t surface_cells = 0;
+    for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
+    bool encoded = false;
+    for (const OutputRequest& output : o.outputs) encoded = encoded || output.format != MeshFormat::ply;
+    // The grid is released before the outputs are written, so the encoders' copy replaces it.
+    const std::uint64_t fixed = 64ull << 20;
+    const std::uint64_t need = fixed + std::max(surface_cells * 230 + grid.cells.size() * 10, encoded ? surface_cells * 400 : 0);
+    const std::uint64_t in_use = resident_bytes();
+    if (in_use + need <= o.max_memory) return;
+    // The grid and what meshing it takes both shrink with the surface: the square of the grid.
+    const std::uint64_t base = std::min(in_use_before_grid, in_use) + fixed;
+    const double room = o.max_memory > base ? static_cast<double>(o.max_memory - base) : 0.0;
+    const double shrink = std::sqrt(room / static_cast<double>(in_use + need - base));
+    const std::uint32_t longest = std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]});
+    const auto fit = static_cast<std::uint32_t>(std::floor(longest * std::min(0.9, 0.9 * shrink)));
+    throw Error(ErrorKind::usage, input + ": the grid " + std::to_string(grid.spec.dims[0]) + "x" +
+                                      std::to_string(grid.spec.dims[1]) + "x" + std::to_string(grid.spec.dims[2]) +
+                                      " does not fit: its " + std::to_string(surface_cells) +
+                                      " surface cells need about " + mebibytes(need) + " to mesh and write besides the " +
+                                      mebibytes(in_use) + " in use, more than --max-memory (" + mebibytes(o.max_memory) + ")" +
+                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") + " (nothing was written)");
+}
+
 // Why the mesh came out empty, and what to try: the step that removed the last triangle.
-[[noreturn]] void empty_mesh_error(const RunReport& r, const DensityGrid& grid, std::size_t extracted) {
+[[noreturn]] void empty_mesh_error(const RunReport& r, std::uint64_t fullest, std::size_t extracted) {
     std::string why;
     if (r.points_read == r.points_outside) {
         why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
               std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
     } else if (extracted == 0) {
-        std::uint64_t fullest = 0;
-        for (const CellSums& cell : grid.cells) fullest = std::max(fullest, cell.count);
         why = "the iso " + shortest(r.iso) + " points per cell left nothing: the fullest cell holds " +
               std::to_string(fullest) + " points";
         const std::string dims = std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) + " x " +
@@ -155,7 +200,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     accumulate.on_slice = [&](std::uint64_t points) {
         watch.points_read(points, reader.header().point_count, reader.stream().raw_position(), reader.stream().raw_size());
     };
-    const DensityGrid grid = accumulate_density(reader, device, accumulate);
+    accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
+    DensityGrid grid = accumulate_density(reader, device, accumulate);
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
     r.occupied_cells = grid.occupied_cells(), r.occupied_bricks = grid.brick_keys.size();
@@ -170,10 +216,13 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
     r.iso = o.iso ? *o.iso : automatic_iso(grid);
+    if (o.max_memory) check_extraction_memory(grid, r.iso, o, r.input, accumulate.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
     Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(grid, r.iso) : extract_isosurface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();
+    const std::uint64_t fullest_cell = extracted ? 0 : fullest(grid);
+    grid = DensityGrid{}; // not needed any more: the writers get its memory
     watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + shortest(r.iso));
     r.pieces = remove_small_pieces(mesh, o.min_piece);
     SimplifyOptions simplify;
@@ -185,7 +234,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                      std::to_string(r.simplify.triangles_after) + " triangles within " + shortest(simplify.error) +
                      " in " + two_digits(r.simplify.seconds) + " s");
     r.input = reader.stream().name();
-    if (mesh.triangles.empty()) empty_mesh_error(r, grid, extracted);
+    if (mesh.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
     if (!o.normals) mesh.normals.clear();
     else if (mesh.normals.empty()) compute_vertex_normals(mesh); // the extraction gave none
     r.extract = seconds_since(extract_start);

@@ -51,7 +51,7 @@ std::uint64_t brick_count(const GridSpec& grid) {
 }
 
 struct Limits {
-    std::uint64_t global_memory, max_alloc, max_memory;
+    std::uint64_t global_memory, max_alloc, max_memory, in_use;
 };
 
 // Empty when `need` fits; otherwise what it exceeds.
@@ -62,9 +62,10 @@ std::string exceeded(const MemoryNeed& need, const Limits& limits, const std::st
     if (need.device_bytes > limits.global_memory)
         return "it needs " + mib(need.device_bytes) + " of device memory, more than the device has (" +
                mib(limits.global_memory) + ")";
-    if (limits.max_memory && need.device_bytes + need.host_bytes > limits.max_memory)
-        return "it needs " + mib(need.device_bytes + need.host_bytes) +
-               " on host and device together, more than --max-memory (" + mib(limits.max_memory) + ")";
+    if (limits.max_memory && need.device_bytes + need.host_bytes + limits.in_use > limits.max_memory)
+        return "it needs " + mib(need.device_bytes + need.host_bytes) + " on host and device together" +
+               (limits.in_use ? " besides the " + mib(limits.in_use) + " in use before reading" : std::string()) +
+               ", more than --max-memory (" + mib(limits.max_memory) + ")";
     return {};
 }
 
@@ -101,16 +102,14 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
 // The pool of bricks outgrew a limit after `points_read` of the header's points: stop, and
 // suggest a grid whose pool would fit, assuming the surface's bricks fall with the square of the
 // grid.
-[[noreturn]] void pool_too_large(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
-                                 const std::string& problem, std::uint64_t bricks_used, std::uint64_t points_read,
-                                 std::uint64_t available_bytes) {
+[[noreturn]] void pool_too_large(const LasHeader& header, const GridSpec& grid, const std::string& problem,
+                                 std::uint64_t bricks_used, std::uint64_t points_read, std::uint64_t available_bytes,
+                                 double cost_per_brick_byte) {
     // A scan in acquisition order meets new bricks all along; a random order meets most of them
     // early. Between the two: at most twice the bricks seen so far.
     const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
     const double growth = std::min(2.0, 1 / std::min(1.0, seen));
-    // The pool's chunks double, so the device holds up to twice the bricks in use, and the host
-    // about once more when they are read back.
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * 3;
+    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * cost_per_brick_byte;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
     throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
@@ -118,7 +117,6 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
                                       std::to_string(bricks_used) + " bricks and " + problem +
                                       (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
                                       " (nothing was written)");
-    (void)options;
 }
 
 // The pool's first chunk, counted before reading (bricks with colour, the larger kind).
@@ -202,7 +200,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     const std::size_t slice_records = static_cast<std::size_t>(
         std::clamp<std::uint64_t>(std::min<std::uint64_t>(slice_limit / length, reader.records_left()), 1, 1u << 30));
     const std::size_t slice_bytes = slice_records * length;
-    const Limits limits{dev.info.global_memory, max_alloc, options.max_memory};
+    const Limits limits{dev.info.global_memory, max_alloc, options.max_memory, options.max_memory ? options.memory_in_use : 0};
     check_index_memory(header, options, out.spec, slice_bytes, limits);
     for (int a = 0; a < 3; ++a) out.axes[a] = axis_cells(out.spec, a, header.scale[a], header.offset[a]);
 
@@ -291,8 +289,12 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 // Another chunk; nothing moves.
                 const auto c = static_cast<unsigned>(chunks.size());
                 const std::uint64_t capacity = layout.chunk_start(c + 1);
-                const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + capacity * brick_bytes,
-                                      fixed.host_bytes + (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums),
+                // A device's chunks take their whole size; a CPU device's take memory only for
+                // the bricks in use, and the host's copy replaces them chunk by chunk when read
+                // back. A device's pool is read back into the host's copy once more.
+                const std::uint64_t device_pool = host_device ? (used + fresh) * brick_bytes : capacity * brick_bytes;
+                const std::uint64_t host_copy = host_device ? 0 : (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums);
+                const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + device_pool, fixed.host_bytes + host_copy,
                                       layout.chunk_bricks(c) * brick_bytes};
                 std::string problem = c == PoolLayout::max_chunks
                                           ? "it needs more than " + std::to_string(PoolLayout::max_chunks) + " buffers of up to " +
@@ -303,9 +305,12 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                     const std::uint64_t limit = std::min(
                         {layout.chunk_start(PoolLayout::max_chunks) * brick_bytes, limits.global_memory,
                          limits.max_memory ? limits.max_memory : UINT64_MAX});
-                    const std::uint64_t fixed_bytes = fixed.device_bytes + fixed.host_bytes;
+                    const std::uint64_t fixed_bytes = fixed.device_bytes + fixed.host_bytes + limits.in_use;
                     const std::uint64_t available = limit > fixed_bytes ? limit - fixed_bytes : 0;
-                    pool_too_large(header, options, out.spec, problem, used + fresh, out.points_read, available);
+                    // Per byte of bricks in use: on a device up to twice in doubling chunks, and
+                    // once more on the host; on a CPU device about once; and meshing the grid
+                    // takes about 3/4 of it again (measured on the deck).
+                    pool_too_large(header, out.spec, problem, used + fresh, out.points_read, available, host_device ? 2 : 4);
                 }
                 const std::uint64_t chunk_bytes = layout.chunk_bricks(c) * brick_bytes;
                 if (host_device) {

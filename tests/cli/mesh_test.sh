@@ -57,6 +57,29 @@ check "summary counts the removed pieces" contains "$dir/summary.txt" "3 removed
 "$lasmesh" "$dir/d.las" -o "$dir/x.ply" --min-piece 5%% 2> /dev/null; rc=$?
 check "a bad --min-piece is a usage error" test "$rc" -eq 1
 
+# --max-memory holds for the whole run: each limit either gives a mesh whose peak resident memory
+# stays under it, or is refused (exit 1, nothing written) with a --grid that then does both.
+# (Not under AddressSanitizer, whose shadow memory counts as resident.)
+if [ -z "${LASMESH_SANITIZED:-}" ]; then
+  "$lasgen" --scene deck --points 1000000 -o "$dir/m.las"
+  for limit in 220 350 500; do
+    grid=1024
+    for attempt in 1 2 3; do
+      rm -f "$dir/m.json" "$dir/m.drc"
+      "$lasmesh" "$dir/m.las" --grid "$grid" --max-memory "$limit" -o "$dir/m.drc" --report "$dir/m.json" 2> "$dir/err.txt"; rc=$?
+      [ "$rc" -eq 0 ] && break
+      check "--max-memory $limit --grid $grid: refused as a usage error" test "$rc" -eq 1
+      check "--max-memory $limit --grid $grid: nothing written" test ! -e "$dir/m.drc"
+      grid=$(grep -o -- '--grid [0-9]*' "$dir/err.txt" | tail -1 | cut -d' ' -f2)
+      check "--max-memory $limit: a grid is suggested" test -n "$grid"
+      [ -n "$grid" ] || break
+    done
+    check "--max-memory $limit: a mesh within three tries" test "$rc" -eq 0
+    check "--max-memory $limit --grid $grid: peak resident memory under the limit" python3 -c "
+import json, sys; peak = json.load(open(sys.argv[1]))['peak_rss_bytes']; print(peak / 2**20); assert peak <= $limit * 2**20" "$dir/m.json"
+  done
+fi
+
 # Errors come before any reading, and leave nothing behind.
 "$lasmesh" "$dir/s.las" -o "$dir/no/such/folder/x.ply" 2> "$dir/err.txt"; rc=$?
 check "missing output folder exits 4" test "$rc" -eq 4

@@ -23,6 +23,7 @@ struct AccumulateOptions {
     std::optional<Bounds> bounds;   // default: the header bounds
     std::uint64_t slice_bytes = 0;  // upper limit on one upload (--chunk-mb); 0: 16 MiB
     std::uint64_t max_memory = 0;   // --max-memory, host and device together; 0: no limit of ours
+    std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
     std::uint64_t max_alloc = 0;    // lower the device's maximum allocation (tests); 0: the device's
     // Called after each slice is read, with the points read so far (progress display).
     std::function<void(std::uint64_t points_read)> on_slice;
