@@ -1,6 +1,8 @@
 // Range decoder and adaptive models (see the header for the sources).
 #include "read/arithmetic_decoder.hpp"
 
+#include <algorithm>
+
 namespace lasmesh::laz {
 
 
@@ -18,44 +20,66 @@ void BitModel::update() {
     bits_until_update = update_cycle;
 }
 
-SymbolModel::SymbolModel(std::uint32_t n)
-    : symbols(n), last_symbol(n - 1), update_cycle(n), distribution(n), counts(n, 1) {
-    if (n > 16) {
-        std::uint32_t table_bits = 3;
-        while (n > (1u << (table_bits + 2))) ++table_bits;
-        table.resize((1u << table_bits) + 2);
-        table_shift = sym_length_shift - table_bits;
-    }
+SymbolModel::SymbolModel(std::uint32_t n, Fresh) : last_symbol(n - 1), symbols(n), update_cycle(n) {
+    // A table of at least as many buckets as symbols, 8 to 256 of them (larger tables made no
+    // difference on the corpus and cost small chunks time to build).
+    std::uint32_t table_bits = 3;
+    while (table_bits < 8 && (1u << table_bits) < n) ++table_bits;
+    table_shift = sym_length_shift - table_bits;
+    table_last = 1u << table_bits;
+    storage_ = std::make_unique_for_overwrite<std::uint32_t[]>(storage_size());
+    std::uint32_t* d = storage_.get();
+    d[n] = d[n + 1] = 0xFFFFFFFFu; // no scaled value (at most 2^23) reaches them
+    distribution = d;
+    table = d + n + 2;
+    counts = d + n + 2 + table_last + 2;
+    std::fill(counts, counts + n, 1u);
     update();
     update_cycle = symbols_until_update = (n + 6) >> 1;
+}
+
+SymbolModel::SymbolModel(std::uint32_t n) {
+    // Every new model of n symbols starts alike: each thread builds one per size once and
+    // copies it. Building is most of the work of a chunk of a few points (COPC nodes). The
+    // sizes are constants of the item decoders, a dozen or so.
+    thread_local std::vector<SymbolModel> fresh;
+    auto it = std::find_if(fresh.begin(), fresh.end(), [n](const SymbolModel& m) { return m.symbols == n; });
+    if (it == fresh.end()) it = fresh.insert(fresh.end(), SymbolModel(n, Fresh{}));
+    const SymbolModel& f = *it;
+    distribution = table = counts = nullptr;
+    table_shift = f.table_shift, table_last = f.table_last, last_symbol = f.last_symbol, likely = f.likely;
+    symbols_until_update = f.symbols_until_update, symbols = f.symbols, total_count = f.total_count;
+    update_cycle = f.update_cycle;
+    const std::size_t size = storage_size();
+    storage_ = std::make_unique_for_overwrite<std::uint32_t[]>(size);
+    std::uint32_t* d = storage_.get();
+    std::copy(f.storage_.get(), f.storage_.get() + size, d);
+    distribution = d;
+    table = d + (f.table - f.distribution);
+    counts = d + (f.counts - f.distribution);
 }
 
 void SymbolModel::update() {
     total_count += update_cycle;
     if (total_count > sym_max_count) {
         total_count = 0;
-        for (auto& c : counts) total_count += (c = (c + 1) >> 1);
+        for (std::uint32_t k = 0; k < symbols; ++k) total_count += (counts[k] = (counts[k] + 1) >> 1);
     }
     const std::uint32_t scale = 0x80000000u / total_count;
-    std::uint32_t sum = 0;
-    if (table.empty()) {
-        for (std::uint32_t k = 0; k < symbols; ++k) {
-            distribution[k] = (scale * sum) >> (31 - sym_length_shift);
-            sum += counts[k];
-        }
-    } else {
-        // table[t] = first symbol whose interval can contain a value with top bits t.
-        const std::uint32_t table_size = static_cast<std::uint32_t>(table.size()) - 2;
-        std::uint32_t s = 0;
-        for (std::uint32_t k = 0; k < symbols; ++k) {
-            distribution[k] = (scale * sum) >> (31 - sym_length_shift);
-            sum += counts[k];
-            const std::uint32_t w = distribution[k] >> table_shift;
-            while (s < w) table[++s] = k - 1;
-        }
-        table[0] = 0;
-        while (s <= table_size) table[++s] = symbols - 1;
+    std::uint32_t* d = storage_.get();
+    std::uint32_t* tab = d + symbols + 2;
+    // tab[t] = the last symbol whose interval starts before bucket t's start (t << shift) or at
+    // it, so d[tab[t]] <= any value in bucket t < d[tab[t + 1] + 1].
+    std::uint32_t sum = 0, t = 0, most = 0;
+    for (std::uint32_t k = 0; k < symbols; ++k) {
+        d[k] = (scale * sum) >> (31 - sym_length_shift);
+        if (counts[k] > most) most = counts[k], likely = k;
+        sum += counts[k];
+        const std::uint32_t w = d[k] >> table_shift;
+        while (t < w) tab[++t] = k - 1;
     }
+    tab[0] = 0;
+    while (t <= table_last) tab[++t] = symbols - 1;
     update_cycle = (5 * update_cycle) >> 2;
     const std::uint32_t max_cycle = (symbols + 6) << 3;
     if (update_cycle > max_cycle) update_cycle = max_cycle;

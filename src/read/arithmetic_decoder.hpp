@@ -30,21 +30,36 @@ struct BitModel {
 };
 
 // Adaptive model over `symbols` symbols: cumulative distribution in 15 bits, plus a lookup
-// table that narrows the search for models over more than 16 symbols.
+// table from the top bits of a scaled value to the first symbol it can belong to. The table
+// is the decoder's own search aid (finer than the one the format's description suggests, so
+// that most look-ups land on one or two candidate symbols); only the distribution and counts
+// are defined by the format.
+// Distribution, table and counts share one allocation.
 class SymbolModel {
 public:
     explicit SymbolModel(std::uint32_t symbols);
+    SymbolModel(SymbolModel&&) noexcept = default; // the block moves, the pointers stay valid
+    SymbolModel& operator=(SymbolModel&&) noexcept = default;
     void update();
 
-    std::uint32_t symbols;
-    std::uint32_t last_symbol;
+    const std::uint32_t* distribution = nullptr; // symbols + 2 entries; the last two are
+                                                 // sentinels no scaled value reaches
+    const std::uint32_t* table = nullptr;        // table_last + 2 entries
+    std::uint32_t* counts = nullptr;
     std::uint32_t table_shift = 0;
+    std::uint32_t table_last = 0; // largest table index a (corrupt) value may use
+    std::uint32_t last_symbol = 0;
+    std::uint32_t likely = 0; // the symbol with the largest count
+    std::uint32_t symbols_until_update = 0;
+    std::uint32_t symbols = 0;
     std::uint32_t total_count = 0;
-    std::uint32_t update_cycle;
-    std::uint32_t symbols_until_update;
-    std::vector<std::uint32_t> distribution;
-    std::vector<std::uint32_t> counts;
-    std::vector<std::uint32_t> table; // empty for small models
+    std::uint32_t update_cycle = 0;
+
+private:
+    struct Fresh {};
+    SymbolModel(std::uint32_t symbols, Fresh); // builds it
+    std::size_t storage_size() const { return 2 * std::size_t{symbols} + 2 + table_last + 2; }
+    std::unique_ptr<std::uint32_t[]> storage_;
 };
 
 // A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
@@ -64,7 +79,8 @@ private:
 
 // Range decoder over one buffer. Reading past its end yields zeros and is counted, so a
 // truncated or corrupt stream decodes to garbage values but never reads out of bounds; the
-// caller checks overrun() once per chunk or layer.
+// caller checks overrun() once per chunk or layer. Small and copyable: a hot function copies
+// it into a local so that its state stays in registers, and copies it back at the end.
 class ArithmeticDecoder {
 public:
     ArithmeticDecoder() = default;
@@ -87,13 +103,23 @@ private:
         ++pos_;
         return b;
     }
+    // After each decode the interval length must be at least 2^24 again. Usually one byte is
+    // due or none, a coin flip a branch would mispredict: that byte is shifted in without a
+    // branch, and the rare second or third byte (a symbol of probability under 2^-8) by a loop.
     void renormalize() {
-        do {
+        const std::uint32_t due = length_ < min_length ? 1u : 0u;
+        const std::uint32_t byte = pos_ < size_ ? std::to_integer<std::uint32_t>(data_[pos_]) : 0u;
+        const std::uint32_t shift = 8 * due;
+        value_ = (value_ << shift) | (byte & (0u - due));
+        length_ <<= shift;
+        pos_ += due;
+        while (length_ < min_length) {
             value_ = (value_ << 8) | next_byte();
             length_ <<= 8;
-        } while (length_ < (1u << 24));
+        }
     }
     std::uint32_t read_short_bits(std::uint32_t bits); // up to 19 bits at once
+    static std::uint32_t search(const std::uint32_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n);
 
     const std::byte* data_ = nullptr;
     std::size_t size_ = 0;
@@ -152,58 +178,67 @@ inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k) {
 }
 
 inline std::uint32_t ArithmeticDecoder::decode_bit(BitModel& m) {
+    // 0 below x, 1 above; selected without a branch.
     const std::uint32_t x = m.bit_0_prob * (length_ >> bit_length_shift);
-    std::uint32_t bit;
-    if (value_ < x) {
-        bit = 0;
-        length_ = x;
-        ++m.bit_0_count;
-    } else {
-        bit = 1;
-        value_ -= x;
-        length_ -= x;
-    }
-    if (length_ < min_length) renormalize();
+    const std::uint32_t bit = value_ >= x ? 1u : 0u;
+    const std::uint32_t mask = 0u - bit;
+    value_ -= x & mask;
+    length_ = (x & ~mask) | ((length_ - x) & mask);
+    m.bit_0_count += bit ^ 1u;
+    renormalize();
     if (--m.bits_until_update == 0) m.update();
     return bit;
 }
 
-inline std::uint32_t ArithmeticDecoder::decode_symbol(SymbolModel& m) {
-    std::uint32_t x, y = length_, s;
-    length_ >>= sym_length_shift;
-    const std::uint32_t* d = m.distribution.data();
-    if (!m.table.empty()) {
-        // Interval search narrowed by the table: find s with d[s] <= value/length < d[s+1].
-        std::uint32_t dv = value_ / length_;
+inline std::uint32_t ArithmeticDecoder::search(const std::uint32_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n) {
+    while (n > s + 1) {
+        const std::uint32_t k = (s + n) >> 1;
+        if (d[k] > dv) n = k;
+        else s = k;
+    }
+    return s;
+}
+
+[[gnu::always_inline]] inline std::uint32_t ArithmeticDecoder::decode_symbol(SymbolModel& m) {
+    // The symbol s is the one with d[s] * unit <= value < d[s + 1] * unit (d: the distribution,
+    // unit: the interval length / 2^15; the last symbol's interval ends at the length).
+    const std::uint32_t unit = length_ >> sym_length_shift;
+    const std::uint32_t* d = m.distribution;
+    // First the model's most frequent symbol: two products and a compare, no division. The
+    // branch mostly goes the same way for a skewed model and the decoding runs ahead on it.
+    const std::uint32_t g = m.likely;
+    std::uint32_t s = g;
+    std::uint32_t x = d[g] * unit;
+    std::uint32_t y = g == m.last_symbol ? length_ : d[g + 1] * unit;
+    if (value_ - x >= y - x) {
+        // One division gives the quotient; comparing it with d[k] decides exactly what
+        // comparing value with unit * d[k] would (no product overflows 32 bits).
+        const std::uint32_t dv = value_ / unit;
         std::uint32_t t = dv >> m.table_shift;
-        if (t >= m.table.size() - 1) t = static_cast<std::uint32_t>(m.table.size()) - 2; // corrupt input only
+        t = t < m.table_last ? t : m.table_last; // beyond only on corrupt input
+        // The table bounds s to [table[t], table[t + 1]]: mostly one or two candidates, decided
+        // without a branch (their bounds loaded at once); a wider range (a bucket with several
+        // rare symbols) is searched.
         s = m.table[t];
-        std::uint32_t n = m.table[t + 1] + 1;
-        while (n > s + 1) {
-            const std::uint32_t k = (s + n) >> 1;
-            if (d[k] > dv) n = k;
-            else s = k;
+        const std::uint32_t n = m.table[t + 1] + 1;
+        std::uint32_t low, high; // d[s], d[s + 1]
+        if (n > s + 2) {
+            s = search(d, dv, s, n);
+            low = d[s];
+            high = d[s + 1];
+        } else {
+            const std::uint32_t d0 = d[s], d1 = d[s + 1], d2 = d[s + 2]; // d[symbols + 1]: sentinel too
+            const bool up = d1 <= dv;
+            s += up ? 1u : 0u;
+            low = up ? d1 : d0;
+            high = up ? d2 : d1;
         }
-        x = d[s] * length_;
-        if (s != m.last_symbol) y = d[s + 1] * length_;
-    } else {
-        x = s = 0;
-        std::uint32_t n = m.symbols;
-        std::uint32_t k = n >> 1;
-        do {
-            const std::uint32_t z = length_ * d[k];
-            if (z > value_) {
-                n = k;
-                y = z;
-            } else {
-                s = k;
-                x = z;
-            }
-        } while ((k = (s + n) >> 1) != s);
+        x = low * unit;
+        y = s == m.last_symbol ? length_ : high * unit; // high: a sentinel for the last
     }
     value_ -= x;
     length_ = y - x;
-    if (length_ < min_length) renormalize();
+    renormalize();
     ++m.counts[s];
     if (--m.symbols_until_update == 0) m.update();
     return s;
@@ -213,7 +248,7 @@ inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
     length_ >>= bits;
     std::uint32_t sym = value_ / length_;
     value_ -= length_ * sym;
-    if (length_ < min_length) renormalize();
+    renormalize();
     return sym;
 }
 
@@ -226,7 +261,7 @@ inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
     return read_short_bits(bits);
 }
 
-inline std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model) {
+[[gnu::always_inline]] inline std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model) {
     k_ = dec.decode_symbol(bits_model);
     if (k_ == 0) return static_cast<std::int32_t>(dec.decode_bit(corrector0_)); // 0 or 1
     if (k_ >= 32) return corr_min_;
@@ -245,7 +280,7 @@ inline std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, Symbo
     return static_cast<std::int32_t>(v);
 }
 
-inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
+[[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
     const std::int32_t corr = read_corrector(dec, bits_model(context));
     std::int32_t real = static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr));
     if (real < 0) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) + corr_range_);

@@ -52,7 +52,8 @@ SymbolModel& Point10Decoder::lazy(std::array<std::unique_ptr<SymbolModel>, 256>&
     return *models[context];
 }
 
-void Point10Decoder::decode(ArithmeticDecoder& dec, std::byte* out) {
+void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
+    ArithmeticDecoder dec = decoder; // a local the compiler keeps in registers
     const std::uint32_t changed = dec.decode_symbol(changed_);
     unsigned r, n, m, l;
     if (changed) {
@@ -103,15 +104,15 @@ void Point10Decoder::decode(ArithmeticDecoder& dec, std::byte* out) {
     out[16] = std::byte{scan_angle_};
     out[17] = std::byte{user_data_};
     store_le(out + 18, point_source_);
+    decoder = dec;
 }
 
 GpsTime11Decoder::GpsTime11Decoder(const std::byte* first) : multi_(gps_multi_total) {
     last_time_[0] = load_le<std::int64_t>(first);
 }
 
-void GpsTime11Decoder::decode_time(ArithmeticDecoder& dec, int depth) {
-    // A valid stream switches sequence at most once per point; bound it for corrupt ones.
-    if (depth > 4) throw ChunkError(dec.position(), "GPS time switches sequence endlessly (corrupt data)");
+void GpsTime11Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
+    ArithmeticDecoder dec = decoder; // a local the compiler keeps in registers
     auto full_time = [&] {
         next_ = (next_ + 1) & 3;
         const std::uint32_t high = static_cast<std::uint32_t>(
@@ -122,66 +123,70 @@ void GpsTime11Decoder::decode_time(ArithmeticDecoder& dec, int depth) {
         last_diff_[last_] = 0;
         extreme_counter_[last_] = 0;
     };
-    auto extreme = [&](std::int32_t diff) {
-        // A run of extreme multipliers makes the new difference the reference.
-        if (++extreme_counter_[last_] > 3) {
-            last_diff_[last_] = diff;
-            extreme_counter_[last_] = 0;
-        }
-    };
-    if (last_diff_[last_] == 0) {
-        const std::uint32_t multi = dec.decode_symbol(zero_diff_);
-        if (multi == 1) {
-            last_diff_[last_] = ic_time_.decode(dec, 0, 0);
-            last_time_[last_] = add64(last_time_[last_], last_diff_[last_]);
-            extreme_counter_[last_] = 0;
-        } else if (multi == 2) {
-            full_time();
-        } else if (multi > 2) {
-            last_ = (last_ + multi - 2) & 3;
-            decode_time(dec, depth + 1);
-        }
-        return;
-    }
-    const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(multi_));
-    const std::int32_t last_diff = last_diff_[last_];
-    if (multi == 1) {
-        last_time_[last_] = add64(last_time_[last_], ic_time_.decode(dec, last_diff, 1));
-        extreme_counter_[last_] = 0;
-    } else if (multi < gps_multi_unchanged) {
-        std::int32_t diff;
-        if (multi == 0) {
-            diff = ic_time_.decode(dec, 0, 7);
-            extreme(diff);
-        } else if (multi < gps_multi) {
-            diff = ic_time_.decode(dec, mul32(multi, last_diff), multi < 10 ? 2 : 3);
-        } else if (multi == gps_multi) {
-            diff = ic_time_.decode(dec, mul32(gps_multi, last_diff), 4);
-            extreme(diff);
-        } else {
-            const std::int32_t negative = gps_multi - multi; // -1 .. -10
-            if (negative > gps_multi_minus) {
-                diff = ic_time_.decode(dec, mul32(negative, last_diff), 5);
-            } else {
-                diff = ic_time_.decode(dec, mul32(gps_multi_minus, last_diff), 6);
-                extreme(diff);
+    // A switch to another sequence decodes that sequence's time; a valid stream switches at most
+    // once per point, so more switches mean corrupt data.
+    for (int switches = 0;; ++switches) {
+        if (switches > 4) throw ChunkError(dec.position(), "GPS time switches sequence endlessly (corrupt data)");
+        if (last_diff_[last_] == 0) {
+            const std::uint32_t multi = dec.decode_symbol(zero_diff_);
+            if (multi == 1) {
+                last_diff_[last_] = ic_time_.decode(dec, 0, 0);
+                last_time_[last_] = add64(last_time_[last_], last_diff_[last_]);
+                extreme_counter_[last_] = 0;
+            } else if (multi == 2) {
+                full_time();
+            } else if (multi > 2) {
+                last_ = (last_ + multi - 2) & 3;
+                continue;
             }
+            break;
         }
-        last_time_[last_] = add64(last_time_[last_], diff);
-    } else if (multi == gps_multi_code_full) {
-        full_time();
-    } else if (multi > gps_multi_code_full) {
-        last_ = (last_ + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
-        decode_time(dec, depth + 1);
+        const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(multi_));
+        if (multi < gps_multi_unchanged) {
+            // The difference predicted as a multiple of the last one, with a context per kind of
+            // multiplier; extreme multipliers count towards replacing the reference difference.
+            const std::int32_t last_diff = last_diff_[last_];
+            std::int32_t prediction, context;
+            bool extreme = false;
+            if (multi == 0) {
+                prediction = 0, context = 7, extreme = true;
+            } else if (multi == 1) {
+                prediction = last_diff, context = 1;
+            } else if (multi < gps_multi) {
+                prediction = mul32(multi, last_diff), context = multi < 10 ? 2 : 3;
+            } else if (multi == gps_multi) {
+                prediction = mul32(gps_multi, last_diff), context = 4, extreme = true;
+            } else {
+                const std::int32_t negative = gps_multi - multi; // -1 .. -10
+                if (negative > gps_multi_minus) {
+                    prediction = mul32(negative, last_diff), context = 5;
+                } else {
+                    prediction = mul32(gps_multi_minus, last_diff), context = 6, extreme = true;
+                }
+            }
+            const std::int32_t diff = ic_time_.decode(dec, prediction, static_cast<std::uint32_t>(context));
+            last_time_[last_] = add64(last_time_[last_], diff);
+            if (multi == 1) {
+                extreme_counter_[last_] = 0;
+            } else if (extreme && ++extreme_counter_[last_] > 3) {
+                // A run of extreme multipliers makes the new difference the reference.
+                last_diff_[last_] = diff;
+                extreme_counter_[last_] = 0;
+            }
+        } else if (multi == gps_multi_code_full) {
+            full_time();
+        } else if (multi > gps_multi_code_full) {
+            last_ = (last_ + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
+            continue;
+        }
+        break;
     }
-}
-
-void GpsTime11Decoder::decode(ArithmeticDecoder& dec, std::byte* out) {
-    decode_time(dec, 0);
+    decoder = dec;
     store_le(out, last_time_[last_]);
 }
 
-void decode_rgb(ArithmeticDecoder& dec, RgbModels& models, std::array<std::uint16_t, 3>& last) {
+void decode_rgb(ArithmeticDecoder& decoder, RgbModels& models, std::array<std::uint16_t, 3>& last) {
+    ArithmeticDecoder dec = decoder; // a local the compiler keeps in registers
     // Bits 0-5 of `used`: low/high byte of R, G, B changed (order R lo, R hi, G lo, G hi, B lo,
     // B hi); bit 6: the colour is not grey, so G and B are coded too, predicted from R's change.
     const std::uint32_t used = dec.decode_symbol(models.used);
@@ -214,6 +219,7 @@ void decode_rgb(ArithmeticDecoder& dec, RgbModels& models, std::array<std::uint1
         c[1] = c[2] = c[0];
     }
     last = c;
+    decoder = dec;
 }
 
 Rgb12Decoder::Rgb12Decoder(const std::byte* p)
@@ -229,11 +235,13 @@ ByteDecoder::ByteDecoder(const std::byte* first, std::size_t size) : last_(size)
     for (std::size_t i = 0; i < size; ++i) models_.emplace_back(256);
 }
 
-void ByteDecoder::decode(ArithmeticDecoder& dec, std::byte* out) {
+void ByteDecoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
+    ArithmeticDecoder dec = decoder;
     for (std::size_t i = 0; i < last_.size(); ++i) {
         last_[i] = static_cast<std::uint8_t>(last_[i] + dec.decode_symbol(models_[i]));
         out[i] = std::byte{last_[i]};
     }
+    decoder = dec;
 }
 
 WavePacketDecoder::WavePacketDecoder(const std::byte* first) { std::memcpy(last_.data(), first, last_.size()); }

@@ -44,8 +44,6 @@ public:
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
 private:
-    void decode_time(ArithmeticDecoder& dec, int depth);
-
     std::uint32_t last_ = 0, next_ = 0;
     std::array<std::int64_t, 4> last_time_{}; // the doubles' bit patterns
     std::array<std::int32_t, 4> last_diff_{};

@@ -141,7 +141,7 @@ public:
     void decode(std::byte* out);
 
 private:
-    void decode_gps(Point14Context& c, int depth);
+    void decode_gps(Point14Context& c);
 
     Layer* layers_; // 9: XY+returns, Z, class, flags, intensity, angle, user data, source, time
     std::uint16_t version_;
@@ -150,9 +150,8 @@ private:
     std::uint32_t published_ = 0;
 };
 
-void Point14Decoder::decode_gps(Point14Context& c, int depth) {
-    if (depth > 4) throw ChunkError(0, "GPS time switches sequence endlessly (corrupt data)");
-    ArithmeticDecoder& dec = layers_[8].dec;
+void Point14Decoder::decode_gps(Point14Context& c) {
+    ArithmeticDecoder dec = layers_[8].dec; // a local the compiler keeps in registers
     auto full_time = [&] {
         c.gps_next = (c.gps_next + 1) & 3;
         const std::uint32_t high = static_cast<std::uint32_t>(c.ic_gps.decode(
@@ -163,62 +162,69 @@ void Point14Decoder::decode_gps(Point14Context& c, int depth) {
         c.gps_diffs[c.gps_last] = 0;
         c.gps_extreme[c.gps_last] = 0;
     };
-    auto extreme = [&](std::int32_t diff) {
-        if (++c.gps_extreme[c.gps_last] > 3) {
-            c.gps_diffs[c.gps_last] = diff;
-            c.gps_extreme[c.gps_last] = 0;
+    // A switch to another sequence decodes that sequence's time; a valid stream switches at most
+    // once per point, so more switches mean corrupt data.
+    for (int switches = 0;; ++switches) {
+        if (switches > 4) throw ChunkError(0, "GPS time switches sequence endlessly (corrupt data)");
+        const std::uint32_t l = c.gps_last;
+        if (c.gps_diffs[l] == 0) {
+            const std::uint32_t multi = dec.decode_symbol(c.gps_zero_diff);
+            if (multi == 0) {
+                c.gps_diffs[l] = c.ic_gps.decode(dec, 0, 0);
+                c.gps_times[l] = add64(c.gps_times[l], c.gps_diffs[l]);
+                c.gps_extreme[l] = 0;
+            } else if (multi == 1) {
+                full_time();
+            } else {
+                c.gps_last = (l + multi - 1) & 3;
+                continue;
+            }
+            break;
         }
-    };
-    const std::uint32_t l = c.gps_last;
-    if (c.gps_diffs[l] == 0) {
-        const std::uint32_t multi = dec.decode_symbol(c.gps_zero_diff);
-        if (multi == 0) {
-            c.gps_diffs[l] = c.ic_gps.decode(dec, 0, 0);
-            c.gps_times[l] = add64(c.gps_times[l], c.gps_diffs[l]);
-            c.gps_extreme[l] = 0;
-        } else if (multi == 1) {
+        const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(c.gps_multi_model));
+        if (multi < gps_multi_code_full) {
+            // The difference predicted as a multiple of the last one, with a context per kind of
+            // multiplier; extreme multipliers count towards replacing the reference difference.
+            const std::int32_t last_diff = c.gps_diffs[l];
+            std::int32_t prediction, context;
+            bool extreme = false;
+            if (multi == 0) {
+                prediction = 0, context = 7, extreme = true;
+            } else if (multi == 1) {
+                prediction = last_diff, context = 1;
+            } else if (multi < gps_multi) {
+                prediction = mul32(multi, last_diff), context = multi < 10 ? 2 : 3;
+            } else if (multi == gps_multi) {
+                prediction = mul32(gps_multi, last_diff), context = 4, extreme = true;
+            } else {
+                const std::int32_t negative = gps_multi - multi; // -1 .. -10
+                if (negative > gps_multi_minus) {
+                    prediction = mul32(negative, last_diff), context = 5;
+                } else {
+                    prediction = mul32(gps_multi_minus, last_diff), context = 6, extreme = true;
+                }
+            }
+            const std::int32_t diff = c.ic_gps.decode(dec, prediction, static_cast<std::uint32_t>(context));
+            c.gps_times[l] = add64(c.gps_times[l], diff);
+            if (multi == 1) {
+                c.gps_extreme[l] = 0;
+            } else if (extreme && ++c.gps_extreme[l] > 3) {
+                c.gps_diffs[l] = diff;
+                c.gps_extreme[l] = 0;
+            }
+        } else if (multi == gps_multi_code_full) {
             full_time();
         } else {
-            c.gps_last = (l + multi - 1) & 3;
-            decode_gps(c, depth + 1);
+            c.gps_last = (l + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
+            continue;
         }
-        return;
+        break;
     }
-    const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(c.gps_multi_model));
-    const std::int32_t last_diff = c.gps_diffs[l];
-    if (multi == 1) {
-        c.gps_times[l] = add64(c.gps_times[l], c.ic_gps.decode(dec, last_diff, 1));
-        c.gps_extreme[l] = 0;
-    } else if (multi < gps_multi_code_full) {
-        std::int32_t diff;
-        if (multi == 0) {
-            diff = c.ic_gps.decode(dec, 0, 7);
-            extreme(diff);
-        } else if (multi < gps_multi) {
-            diff = c.ic_gps.decode(dec, mul32(multi, last_diff), multi < 10 ? 2 : 3);
-        } else if (multi == gps_multi) {
-            diff = c.ic_gps.decode(dec, mul32(gps_multi, last_diff), 4);
-            extreme(diff);
-        } else {
-            const std::int32_t negative = gps_multi - multi;
-            if (negative > gps_multi_minus) {
-                diff = c.ic_gps.decode(dec, mul32(negative, last_diff), 5);
-            } else {
-                diff = c.ic_gps.decode(dec, mul32(gps_multi_minus, last_diff), 6);
-                extreme(diff);
-            }
-        }
-        c.gps_times[l] = add64(c.gps_times[l], diff);
-    } else if (multi == gps_multi_code_full) {
-        full_time();
-    } else {
-        c.gps_last = (l + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
-        decode_gps(c, depth + 1);
-    }
+    layers_[8].dec = dec;
 }
 
 void Point14Decoder::decode(std::byte* out) {
-    ArithmeticDecoder& xy = layers_[0].dec;
+    ArithmeticDecoder xy = layers_[0].dec; // a local the compiler keeps in registers
     Point14Context* c = contexts_[current_].get();
     // Context of the changed-values symbol: was the last point a first return, a last return,
     // and did its GPS time change.
@@ -270,6 +276,7 @@ void Point14Decoder::decode(std::byte* out) {
     diff = c->ic_dy.decode(xy, c->median_y[median_index].get(), (n == 1) + (k < 20 ? k & ~1u : 20));
     c->y = add32(c->y, diff);
     c->median_y[median_index].add(diff);
+    layers_[0].dec = xy;
     if (layers_[1].present) {
         k = (c->ic_dx.k() + c->ic_dy.k()) / 2;
         c->z = c->ic_z.decode(layers_[1].dec, c->last_z[l], (n == 1) + (k < 18 ? k & ~1u : 18));
@@ -298,7 +305,7 @@ void Point14Decoder::decode(std::byte* out) {
     if (layers_[7].present && point_source_change)
         c->point_source = static_cast<std::uint16_t>(c->ic_point_source.decode(layers_[7].dec, c->point_source));
     if (layers_[8].present && gps_change) {
-        decode_gps(*c, 0);
+        decode_gps(*c);
         c->gps = c->gps_times[c->gps_last];
     }
     c->gps_changed = gps_change;
