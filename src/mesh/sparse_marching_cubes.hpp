@@ -159,6 +159,13 @@ private:
                       std::int64_t(key / l.bricks[0] / l.bricks[1]) * B};
             // The field may prepare what the brick's samples share (the cells around them).
             const auto sampler = owner.f_.sampler({origin[0] - 1, origin[1] - 1, origin[2] - 1}, S);
+            if constexpr (requires { sampler.empty; }) {
+                if (sampler.empty) { // nothing defined near the brick: no cube to mesh
+                    samples.fill({});
+                    meshed_cube.fill(false);
+                    return;
+                }
+            }
             for (std::int64_t z = 0; z < S; ++z)
                 for (std::int64_t y = 0; y < S; ++y)
                     for (std::int64_t x = 0; x < S; ++x)
