@@ -1,5 +1,6 @@
 // Accumulation on the OpenCL device (PoCL in CI) against hand-worked cases and a plain reference
 // written here, for every slicing, colour depth and grid edge case.
+#include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/error.hpp"
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
@@ -373,4 +374,36 @@ TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the
         options.grid = parse_grid_request(message.substr(at + 7, message.find(' ', at + 7) - at - 7));
         CHECK(accumulate_file(dir.file("s.las"), options).points_read == 200000);
     }
+}
+
+TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating at twice the cell gives") {
+    test::TempDir dir;
+    lasgen::SceneOptions scene;
+    scene.kind = lasgen::SceneKind::torus;
+    scene.origin = {0, 0, 0};
+    const lasgen::Scene torus = lasgen::make_scene(scene);
+    lasgen::LasLayout layout;
+    layout.point_format = 3;
+    test::write_file(dir.file("t.las"), test::make_las(layout, torus, 30000, 9));
+    // 64 and 32 cells over the same bounds: the same origin, cells of h and exactly 2h.
+    const DensityGrid fine = accumulate_file(dir.file("t.las"), grid_of("64"));
+    const DensityGrid direct = accumulate_file(dir.file("t.las"), grid_of("32"));
+    REQUIRE(fine.spec.dims[0] % 2 == 0);
+    const DensityGrid merged = coarsen_grid(fine);
+    CHECK(merged.spec.dims == direct.spec.dims);
+    CHECK(merged.spec.cell_size == direct.spec.cell_size);
+    for (int a = 0; a < 3; ++a) CHECK(merged.axes[a].starts == direct.axes[a].starts);
+    CHECK(merged.brick_keys == direct.brick_keys);
+    CHECK(sums_equal(merged, direct));
+    CHECK(merged.points_read == fine.points_read);
+    CHECK(median_occupied_count(merged) >= median_occupied_count(fine));
+
+    // An odd axis: its last coarse cell covers the fine grid's last cell and ends where it ended.
+    const DensityGrid odd = accumulate_file(dir.file("t.las"), grid_of("63"));
+    const DensityGrid odd_merged = coarsen_grid(odd);
+    CHECK(odd_merged.spec.dims[0] == 32);
+    CHECK(odd_merged.axes[0].starts.back() == odd.axes[0].starts.back());
+    std::uint64_t total = 0;
+    for (const CellSums& c : odd_merged.cells) total += c.count;
+    CHECK(total == odd.points_read - odd.points_outside);
 }

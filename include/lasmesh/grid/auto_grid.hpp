@@ -1,9 +1,11 @@
 // `--grid auto`: a cell size from the data's density, so that the cells on a scanned surface hold
 // enough points for the surface to close. Too fine a grid leaves holes (cells with no points
 // between the points); too coarse a one blurs detail. Estimated from the header alone (count and
-// extents), before any point is read; a later version may refine it from the accumulated counts.
+// extents), before any point is read; then, once the points are counted, coarsened while most
+// occupied cells hold too few points (the header cannot tell a surface's true area).
 #pragma once
 
+#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/grid/grid.hpp"
 #include "lasmesh/read/las_header.hpp"
 
@@ -28,5 +30,17 @@ constexpr std::uint64_t auto_grid_min_points = 100;
 // from around). Throws Error (input) when there are too few points for any surface, naming the
 // option to give instead.
 GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const std::string& input_name);
+
+// After accumulating: the grid is coarsened (cells merged 2 x 2 x 2) while the median count of
+// the occupied cells is below this, and the longest axis has more than auto_grid_min_cells.
+constexpr std::uint64_t auto_grid_min_median = 4;
+
+// The median point count of the cells that hold a point (0 when none does).
+std::uint64_t median_occupied_count(const DensityGrid& grid);
+
+// The grid with cells twice as large: each cell the exact sums of the 2 x 2 x 2 cells it covers
+// (the last cell along an odd axis covers one and ends where the fine grid ended). Otherwise
+// the grid accumulating at that cell size gives.
+DensityGrid coarsen_grid(const DensityGrid& fine);
 
 } // namespace lasmesh

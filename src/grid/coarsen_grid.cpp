@@ -1,0 +1,72 @@
+// coarsen_grid and median_occupied_count: --grid auto's second look, at the accumulated counts.
+// Merging 2 x 2 x 2 cells keeps every sum exact (counts and colours add; position sums move to
+// the larger cell's start), so a coarsened grid is the grid that accumulating at twice the cell
+// would give, without reading the input again.
+#include "lasmesh/grid/auto_grid.hpp"
+#include "lasmesh/grid/density_grid.hpp"
+
+#include <algorithm>
+
+namespace lasmesh {
+
+std::uint64_t median_occupied_count(const DensityGrid& grid) {
+    std::vector<std::uint64_t> counts;
+    for (const CellSums& cell : grid.cells)
+        if (cell.count > 0) counts.push_back(cell.count);
+    if (counts.empty()) return 0;
+    const auto middle = counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2);
+    std::nth_element(counts.begin(), middle, counts.end());
+    return *middle;
+}
+
+DensityGrid coarsen_grid(const DensityGrid& fine) {
+    constexpr std::int64_t size = DensityGrid::brick_size;
+    DensityGrid coarse;
+    coarse.spec = fine.spec;
+    coarse.spec.cell_size = 2 * fine.spec.cell_size;
+    for (int a = 0; a < 3; ++a) {
+        coarse.spec.dims[a] = (fine.spec.dims[a] + 1) / 2;
+        // Every other start of the fine cells, and the fine grid's end: the same points inside.
+        const std::vector<std::int64_t>& starts = fine.axes[a].starts;
+        for (std::size_t i = 0; i + 1 < starts.size(); i += 2) coarse.axes[a].starts.push_back(starts[i]);
+        coarse.axes[a].starts.push_back(starts.back());
+        coarse.bricks[a] = static_cast<std::uint32_t>((coarse.spec.dims[a] + size - 1) / size);
+    }
+    coarse.color = fine.color;
+    coarse.scale = fine.scale;
+    coarse.offset = fine.offset;
+    coarse.points_read = fine.points_read;
+    coarse.points_outside = fine.points_outside;
+    coarse.color_max_word = fine.color_max_word;
+
+    // The coarse bricks: fine brick (x, y, z) falls in coarse brick (x / 2, y / 2, z / 2).
+    auto coarse_key = [&](std::uint64_t key) {
+        const std::uint64_t x = key % fine.bricks[0], y = key / fine.bricks[0] % fine.bricks[1], z = key / fine.bricks[0] / fine.bricks[1];
+        return (z / 2 * coarse.bricks[1] + y / 2) * coarse.bricks[0] + x / 2;
+    };
+    for (const std::uint64_t key : fine.brick_keys) coarse.brick_keys.push_back(coarse_key(key));
+    std::sort(coarse.brick_keys.begin(), coarse.brick_keys.end());
+    coarse.brick_keys.erase(std::unique(coarse.brick_keys.begin(), coarse.brick_keys.end()), coarse.brick_keys.end());
+    coarse.brick_index.assign(std::uint64_t{coarse.bricks[0]} * coarse.bricks[1] * coarse.bricks[2], 0);
+    for (std::size_t b = 0; b < coarse.brick_keys.size(); ++b)
+        coarse.brick_index[coarse.brick_keys[b]] = static_cast<std::uint32_t>(b + 1);
+    coarse.cells.resize(coarse.brick_keys.size() * DensityGrid::brick_cells);
+
+    for (std::uint64_t r = 0; r < fine.cells.size(); ++r) {
+        const CellSums& from = fine.cells[r];
+        if (from.count == 0) continue;
+        const auto cell = fine.cell_of_record(r);
+        CellSums* to = &coarse.cells[static_cast<std::size_t>(coarse.find(cell[0] >> 1, cell[1] >> 1, cell[2] >> 1) - coarse.cells.data())];
+        to->count += from.count;
+        for (int a = 0; a < 3; ++a) {
+            // Position sums count from the cell's first raw value: the fine cell starts later.
+            const std::int64_t shift = fine.axes[a].starts[static_cast<std::size_t>(cell[a])] -
+                                       coarse.axes[a].starts[static_cast<std::size_t>(cell[a] >> 1)];
+            to->position[a] += from.position[a] + from.count * static_cast<std::uint64_t>(shift);
+            to->color[a] += from.color[a];
+        }
+    }
+    return coarse;
+}
+
+} // namespace lasmesh
