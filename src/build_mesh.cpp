@@ -234,9 +234,10 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     if (o.max_memory) check_extraction_memory(grid, r.iso, o, r.input, accumulate.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
-    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(grid, r.iso) : extract_isosurface(grid, r.iso, o.placement);
+    const std::uint64_t fullest_cell = fullest(grid); // for the message if the mesh comes out empty
+    // The sheet releases the grid's cells as soon as it no longer reads them.
+    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso) : extract_isosurface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();
-    const std::uint64_t fullest_cell = extracted ? 0 : fullest(grid);
     grid = DensityGrid{}; // not needed any more: the writers get its memory
     watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + shortest(r.iso));
     r.pieces = remove_small_pieces(mesh, o.min_piece);

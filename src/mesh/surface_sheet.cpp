@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <functional>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -70,19 +71,31 @@ struct Planes {
     std::vector<Vec> normal;
     std::vector<std::uint64_t> count;
 
+    std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
+
+    // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const DensityGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
+        // Sized once: growing by doubling would hold old and new arrays at the peak.
+        const auto planes = static_cast<std::size_t>(std::count_if(
+            g.cells.begin(), g.cells.end(), [iso](const CellSums& c) { return static_cast<double>(c.count) > iso; }));
+        cell.reserve(planes);
+        centroid.reserve(planes);
+        count.reserve(planes);
+        if (g.has_color()) color.reserve(planes);
         for (std::uint64_t r = 0; r < g.cells.size(); ++r) {
             if (!(static_cast<double>(g.cells[r].count) > iso)) continue;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
             cell.push_back(g.cell_of_record(r));
             centroid.push_back(g.centroid(cell.back(), g.cells[r]));
             count.push_back(g.cells[r].count);
+            if (g.has_color()) color.push_back(g.mean_color(g.cells[r]));
         }
         normal.resize(cell.size());
     }
+    // From the grid's brick index only (its cells may be gone).
     std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
-        const CellSums* c = grid.find(x, y, z);
-        return c ? of_record[static_cast<std::uint64_t>(c - grid.cells.data())] : no_plane;
+        const std::uint64_t r = grid.record_of(x, y, z);
+        return r == DensityGrid::no_record ? no_plane : of_record[r];
     }
     template <class Visit>
     void for_each_neighbour(std::uint32_t p, Visit visit) const {
@@ -289,10 +302,9 @@ struct SheetField {
         Vec n{(1 - t) * na[0] + t * nb[0], (1 - t) * na[1] + t * nb[1], (1 - t) * na[2] + t * nb[2]};
         const double length = std::sqrt(dot(n, n));
         for (int c = 0; c < 3; ++c) out.normal[c] = static_cast<float>(length > 0 ? n[c] / length : na[c]);
-        if (planes.grid.has_color()) {
-            const auto& g = planes.grid;
-            const Rgb8 ca = g.mean_color(*g.find(planes.cell[a.source][0], planes.cell[a.source][1], planes.cell[a.source][2]));
-            const Rgb8 cb = g.mean_color(*g.find(planes.cell[b.source][0], planes.cell[b.source][1], planes.cell[b.source][2]));
+        if (!planes.color.empty()) {
+            const Rgb8& ca = planes.color[a.source];
+            const Rgb8& cb = planes.color[b.source];
             for (int c = 0; c < 3; ++c) out.color[c] = static_cast<std::uint8_t>(std::lround((1 - t) * ca[c] + t * cb[c]));
         }
     }
@@ -300,8 +312,12 @@ struct SheetField {
 
 } // namespace
 
-Mesh extract_sheet(const DensityGrid& grid, double iso) {
+namespace {
+
+// `release`, when given, is called once the grid's cells are no longer read.
+Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& release) {
     Planes planes(grid, iso);
+    if (release) release();
     estimate_normals(planes);
     orient_normals(planes);
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
@@ -317,6 +333,14 @@ Mesh extract_sheet(const DensityGrid& grid, double iso) {
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;
+}
+
+} // namespace
+
+Mesh extract_sheet(const DensityGrid& grid, double iso) { return extract(grid, iso, {}); }
+
+Mesh extract_sheet(DensityGrid&& grid, double iso) {
+    return extract(grid, iso, [&grid] { std::vector<CellSums>().swap(grid.cells); });
 }
 
 } // namespace lasmesh

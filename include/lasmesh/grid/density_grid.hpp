@@ -67,17 +67,26 @@ struct DensityGrid {
 
     // The cell (x, y, z), or nullptr when it lies outside the grid or in a brick with no points.
     const CellSums* find(std::int64_t x, std::int64_t y, std::int64_t z) const {
-        if (x < 0 || y < 0 || z < 0 || x >= spec.dims[0] || y >= spec.dims[1] || z >= spec.dims[2]) return nullptr;
-        const std::uint64_t brick =
-            (std::uint64_t(z >> brick_bits) * bricks[1] + std::uint64_t(y >> brick_bits)) * bricks[0] + std::uint64_t(x >> brick_bits);
-        const std::uint32_t at = brick_index[brick];
-        if (at == 0) return nullptr;
-        const std::int64_t m = brick_size - 1;
-        return &cells[(at - 1) * brick_cells + ((z & m) * brick_size + (y & m)) * brick_size + (x & m)];
+        const std::uint64_t r = record_of(x, y, z);
+        return r == no_record ? nullptr : &cells[r];
     }
     std::uint64_t count(std::int64_t x, std::int64_t y, std::int64_t z) const {
         const CellSums* c = find(x, y, z);
         return c ? c->count : 0;
+    }
+    // The index in `cells` of cell (x, y, z), or no_record when it lies outside the grid or in a
+    // brick with no points (from the brick index alone).
+    static constexpr std::uint64_t no_record = ~std::uint64_t{0};
+    std::uint64_t record_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
+        if (x < 0 || y < 0 || z < 0 || x >= std::int64_t{spec.dims[0]} || y >= std::int64_t{spec.dims[1]} ||
+            z >= std::int64_t{spec.dims[2]})
+            return no_record;
+        const std::uint64_t brick =
+            (std::uint64_t(z >> brick_bits) * bricks[1] + std::uint64_t(y >> brick_bits)) * bricks[0] + std::uint64_t(x >> brick_bits);
+        const std::uint32_t at = brick_index[brick];
+        if (at == 0) return no_record;
+        const std::int64_t m = brick_size - 1;
+        return (at - 1) * std::uint64_t{brick_cells} + std::uint64_t(((z & m) * brick_size + (y & m)) * brick_size + (x & m));
     }
     // The grid coordinates of record `n` of `cells`.
     std::array<std::int64_t, 3> cell_of_record(std::uint64_t n) const {

@@ -32,5 +32,9 @@ enum class SurfaceKind {
 // triangles face along the oriented normals; vertex normals are the planes' normals and vertex
 // colours the cells' mean colours, both interpolated along the edge.
 Mesh extract_sheet(const DensityGrid& grid, double iso);
+// The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
+// geometry and index, its cells are empty afterwards): the grid's memory and the mesh's never
+// add up.
+Mesh extract_sheet(DensityGrid&& grid, double iso);
 
 } // namespace lasmesh
