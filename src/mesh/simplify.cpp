@@ -20,6 +20,7 @@
 #include "lasmesh/mesh/simplify.hpp"
 
 #include "lasmesh/measure/mesh_distance.hpp"
+#include "lasmesh/mesh/normals.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -625,6 +626,9 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
         if (s.face_alive[f]) mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
     mesh.triangles.resize(kept);
     remove_unused_vertices(mesh);
+    // A kept normal can end up facing away from the larger faces now around its vertex: there it
+    // becomes theirs, as viewers shade by it.
+    if (!mesh.normals.empty()) agree_normals_with_faces(mesh);
 
     report.triangles_after = mesh.triangles.size();
     report.result_error = reached;

@@ -23,7 +23,8 @@ struct SimplifyReport {
 
 // Simplifies `mesh` in place, in parallel (TBB). A removed vertex moves onto a neighbour, so kept
 // vertices keep their position, colour and normal (colour detail of removed vertices is lost,
-// not averaged); vertices no longer used are removed, the rest keep their relative order.
+// not averaged; a normal that would face away from the vertex's new faces becomes theirs, as in
+// agree_normals_with_faces); vertices no longer used are removed, the rest keep their order.
 // Every collapse keeps each removed vertex within `error` of the faces that replace it, its
 // errors along successive collapses added as independent (root of the sum of squares); the
 // sampled distance between the two surfaces stays below about 2.5 x `error`, 0.6 x at the 99th
