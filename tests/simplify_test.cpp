@@ -131,15 +131,16 @@ TEST_CASE("simplify: fewer triangles, vertices within the bound, colours and win
         }
         CHECK(worst == 0); // every vertex is an original one: collapses move vertices onto neighbours
         CHECK(colours_kept);
-        // Between the vertices, both ways, sampled: the bound holds for the removed vertices;
-        // faces spanning a curved stretch bulge a little more (up to about 2.7 times here).
+        // Between the vertices, both ways, sampled: within the bound. It is checked for each
+        // removed vertex against the planes of the faces that replace it, not for every point of
+        // the faces, hence a quarter to spare (1.0 times the bound at most is what they reach).
         const TriangleSearch simplified(m);
         double far = 0, back = 0;
         for (const Vec3& p : sample_surface(m, 20000)) far = std::max(far, surface.distance(p));
         for (const Vec3& p : sample_surface(original, 20000)) back = std::max(back, simplified.distance(p));
         MESSAGE("bound " << error << ": simplified to original " << far << ", original to simplified " << back);
-        CHECK(far <= error * 3);
-        CHECK(back <= error * 3);
+        CHECK(far <= error * 1.25);
+        CHECK(back <= error * 1.25);
         // Winding: every face still faces outward and every edge stays manifold.
         double center[3] = {0, 0, 0}; // positions are local: the sphere's centre is their mean
         for (const auto& p : original.positions)
@@ -214,8 +215,8 @@ TEST_CASE("simplify: a deck's sheets at half a cell, flip-free and the same for 
     for (const Vec3& p : sample_surface(original, 50000)) back = std::max(back, after.distance(p));
     MESSAGE("deck: simplified to original " << far / original.cell_size << " cells, original to simplified "
                                             << back / original.cell_size << " cells");
-    CHECK(far <= 3 * bound);
-    CHECK(back <= 3 * bound);
+    CHECK(far <= 1.25 * bound);
+    CHECK(back <= 1.25 * bound);
     for (const int threads : {2, 4}) {
         CAPTURE(threads);
         const Mesh again = simplify(threads);

@@ -84,8 +84,22 @@ int main(int argc, char** argv) {
     const SimplifyCheck check = check_simplified(original, m);
     const TriangleSearch before(original), after(m);
     std::vector<double> there, back;
-    for (const Vec3& p : sample_surface(m, 200000)) there.push_back(before.distance(p) / cell);
-    for (const Vec3& p : sample_surface(original, 200000)) back.push_back(after.distance(p) / cell);
+    Vec3 worst{};
+    double farthest = -1;
+    for (const Vec3& p : sample_surface(m, 200000)) {
+        there.push_back(before.distance(p) / cell);
+        if (there.back() > farthest) farthest = there.back(), worst = p;
+    }
+    if (std::getenv("SIMPLIFY_BENCH_WORST"))
+        std::fprintf(stderr, "farthest from the original: %g %g %g\n", worst[0], worst[1], worst[2]);
+    Vec3 worst_back{};
+    farthest = -1;
+    for (const Vec3& p : sample_surface(original, 200000)) {
+        back.push_back(after.distance(p) / cell);
+        if (back.back() > farthest) farthest = back.back(), worst_back = p;
+    }
+    if (std::getenv("SIMPLIFY_BENCH_WORST"))
+        std::fprintf(stderr, "original farthest from the simplified: %g %g %g\n", worst_back[0], worst_back[1], worst_back[2]);
     std::printf("{\"triangles_before\": %zu, \"triangles_after\": %zu, \"error_cells\": %g, \"seconds\": %.3f, "
                 "\"cpu_seconds\": %.3f, \"triangles_per_second\": %.0f, \"flipped\": %zu, \"new_bad_edges\": %zu, "
                 "\"zero_area\": %zu, \"zero_area_before\": %zu, \"simplified_to_original_max\": %.3f, "

@@ -5,8 +5,9 @@
 // area, and the cheapest collapse goes first. Our own implementation; on top of the paper:
 //
 // - a bound, not a target: every face carries how far the original surface it stands for may be
-//   from it (the distance of each removed vertex to the faces that replace it, added up along
-//   the collapses), and no collapse may take that past the bound;
+//   from it (the distance of each removed vertex to the plane of every face that replaces it,
+//   its largest, added in quadrature along the collapses), and no collapse may take that past
+//   the bound; a border vertex stays within it of the new border, and no piece vanishes;
 // - no face turns over: a collapse is refused when a new face's normal points away from the
 //   original surface (the original normals of its three vertices) or turns far from the face it
 //   replaces, or when it has (next to) no area;
@@ -26,6 +27,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -88,6 +90,29 @@ struct PlaneSums { // PlaneSums{} is zero; `new PlaneSums[n]` leaves it to be se
     std::uint32_t vertex;
 };
 
+// A face's plane as a quadric weighted by its area, and its normal as long as twice its area.
+struct Plane {
+    Quadric quadric;
+    double area;
+    V3 normal;
+    void add_to(PlaneSums& p) const {
+        p.quadric.add(quadric), p.weight += area;
+        for (int a = 0; a < 3; ++a) p.reference[a] += normal[a];
+    }
+};
+
+Plane face_plane(const std::vector<std::array<float, 3>>& position, const Face& t) {
+    const auto at = [&](std::uint32_t v) { return V3{position[v][0], position[v][1], position[v][2]}; };
+    const V3 a = at(t[0]);
+    Plane p{{}, 0, cross(sub(at(t[1]), a), sub(at(t[2]), a))};
+    const double length = norm(p.normal);
+    if (!(length > 0)) return p;
+    const V3 unit{p.normal[0] / length, p.normal[1] / length, p.normal[2] / length};
+    p.area = length / 2;
+    p.quadric.add_plane(unit, -dot(unit, a), p.area);
+    return p;
+}
+
 // What the blocks share. Each block writes only its own faces and the vertices no other block
 // touches, so blocks run in any order, at once, with the same result.
 struct Shared {
@@ -100,7 +125,7 @@ struct Shared {
     std::vector<char> face_alive;
     std::vector<float> face_error;    // how far the original surface it stands for may be
     std::vector<char> locked;         // vertices that never move
-    std::vector<std::uint32_t> valence; // faces per vertex, this pass
+    std::vector<char> outside; // per vertex, this pass: faces in other blocks, or in none
     double bound = 0;
 };
 
@@ -141,34 +166,17 @@ public:
         tag_now_ = ring_now_ = 0;
     }
 
-    // Sums the planes (quadric, area) and area-weighted normals of the block's faces per vertex,
-    // all of them or (`held_only`) those of the vertices other blocks have faces around too.
-    void sum_planes(bool held_only) {
+    // Sums the planes (quadric, area) and area-weighted normals of the block's faces per vertex.
+    void sum_planes() {
         const std::size_t n = global_.size();
         quadric_.assign(n, Quadric{}), weight_.assign(n, 0), reference_.assign(n, {0, 0, 0});
         for (std::size_t f = 0; f < face_.size(); ++f) {
-            const Face& t = face_[f];
-            if (held_only && size_[t[0]] == s_.valence[global_[t[0]]] && size_[t[1]] == s_.valence[global_[t[1]]] &&
-                size_[t[2]] == s_.valence[global_[t[2]]])
-                continue;
-            const V3 cr = cross(sub(pos(t[1]), pos(t[0])), sub(pos(t[2]), pos(t[0])));
-            const double length = norm(cr);
-            for (const std::uint32_t v : t)
-                for (int a = 0; a < 3; ++a) reference_[v][a] += cr[a];
-            if (!(length > 0)) continue;
-            const V3 unit{cr[0] / length, cr[1] / length, cr[2] / length};
-            Quadric q{};
-            q.add_plane(unit, -dot(unit, pos(t[0])), length / 2);
-            for (const std::uint32_t v : t) quadric_[v].add(q), weight_[v] += length / 2;
+            const Plane plane = face_plane(s_.position, s_.faces[global_face_[f]]);
+            for (const std::uint32_t v : face_[f]) {
+                quadric_[v].add(plane.quadric), weight_[v] += plane.area;
+                for (int a = 0; a < 3; ++a) reference_[v][a] += plane.normal[a];
+            }
         }
-    }
-
-    // First pass, before any block runs: the planes of the vertices shared with other blocks,
-    // this block's part of them.
-    void gather_held(std::vector<PlaneSums>& held) {
-        sum_planes(true);
-        for (std::uint32_t v = 0; v < global_.size(); ++v)
-            if (size_[v] != s_.valence[global_[v]]) held.push_back({quadric_[v], weight_[v], reference_[v], global_[v]});
     }
 
     // Simplifies the block. First pass: the planes come from the block's faces (the shared
@@ -180,14 +188,14 @@ public:
         interior_.assign(n, 0);
         for (std::uint32_t v = 0; v < n; ++v) {
             const std::uint32_t g = global_[v];
-            if (size_[v] != s_.valence[g]) continue; // shares faces with another block: held
+            if (s_.outside[g]) continue; // shares faces with another block, or with none this pass: held
             interior_[v] = 1;
             if (!simple_fan(v)) continue;            // a sheet touching itself here, or worse
             target_[v] = 1;
             movable_[v] = !s_.locked[g];
         }
         if (first_pass) {
-            sum_planes(false);
+            sum_planes();
             for (std::uint32_t v = 0; v < n; ++v) {
                 const std::uint32_t g = global_[v];
                 if (interior_[v]) unit_normal(reference_[v]);
@@ -235,6 +243,8 @@ private:
     };
     struct Neighbour {
         std::uint32_t vertex, uses;
+        Neighbour() {} // left unset by resize: neighbours() fills what it keeps
+        Neighbour(std::uint32_t v, std::uint32_t n) : vertex(v), uses(n) {}
     };
 
     const V3& pos(std::uint32_t v) const { return position_[v]; }
@@ -335,8 +345,10 @@ private:
         }
     }
 
+    // Whether u may move onto v, and the error its new faces would then carry. The cheap
+    // geometric refusals come first, the topology (which needs v's neighbours) last.
     bool collapse_allowed(std::uint32_t u, std::uint32_t v, double& error) {
-        // Topology: u on a border moves only along it; the link condition.
+        // u on a border moves only along it, and its border no farther than the bound.
         bool u_border = false;
         std::uint32_t uses_uv = 0, other_border = std::numeric_limits<std::uint32_t>::max();
         for (const Neighbour& n : around_u_) {
@@ -347,24 +359,75 @@ private:
             if (n.vertex == v) uses_uv = n.uses;
         }
         if (u_border && uses_uv != 1) return false;
-        neighbours(v, around_v_);
-        bool v_border = false;
-        for (const Neighbour& n : around_v_) v_border = v_border || n.uses == 1;
-        if (v_border && uses_uv != 1 && !u_border) {
-            // u inside, v on a border, uv inside: fine for the link condition below.
+        // Geometry: the error the new faces carry (what u's faces carried, and u's distance to
+        // the plane of each new face, added in quadrature) within the bound; every new face
+        // keeps some area, faces the way the original surface does at its corners, and does
+        // not turn far from the face it replaces.
+        const double bound2 = s_.bound * s_.bound;
+        double carried = 0;
+        for (std::uint32_t i = 0; i < size_[u]; ++i) carried = std::max(carried, double(face_error_[fan(u)[i]]));
+        const double room = bound2 - carried * carried; // for the largest distance squared
+        if (room < 0) return false;
+        const V3& pu = pos(u);
+        const V3& pv = pos(v);
+        double farthest2 = 0;
+        if (u_border && other_border != std::numeric_limits<std::uint32_t>::max()) {
+            const double d = segment_distance(pu, pv, pos(other_border));
+            farthest2 = d * d;
+            if (farthest2 > room) return false;
         }
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const Face& f = face_[fan(u)[i]];
+            if (f[0] == v || f[1] == v || f[2] == v) continue;
+            std::array<const V3*, 3> was{&pos(f[0]), &pos(f[1]), &pos(f[2])}, now = was;
+            V3 reference{0, 0, 0};
+            for (int k = 0; k < 3; ++k) {
+                if (f[k] == u) now[k] = &pv;
+                const V3& r = reference_[f[k] == u ? v : f[k]];
+                for (int a = 0; a < 3; ++a) reference[a] += r[a];
+            }
+            const V3 n_now = cross(sub(*now[1], *now[0]), sub(*now[2], *now[0]));
+            const double len2_now = dot(n_now, n_now);
+            const double height = dot(n_now, sub(pu, *now[0]));
+            if (height * height > room * len2_now) return false;
+            farthest2 = std::max(farthest2, len2_now > 0 ? height * height / len2_now : 0.0);
+            double longest = 0;
+            for (int k = 0; k < 3; ++k) longest = std::max(longest, dot(sub(*now[k], *now[(k + 1) % 3]), sub(*now[k], *now[(k + 1) % 3])));
+            const double len_now = std::sqrt(len2_now);
+            if (!(len_now > min_area_ratio * longest)) return false;
+            if (!(dot(n_now, reference) > min_cos_original * len_now * norm(reference))) return false;
+            const V3 n_was = cross(sub(*was[1], *was[0]), sub(*was[2], *was[0]));
+            const double len_was = norm(n_was);
+            if (len_was > 0 && !(dot(n_now, n_was) > min_cos_replaced * len_now * len_was)) return false;
+        }
+        error = std::sqrt(carried * carried + farthest2);
+        // Topology: the link condition (the vertices next to both u and v are the far corners of
+        // the faces on edge uv), with open borders closed by a virtual vertex (u and v both on a
+        // border joined by an inner edge: refused above, u on a border moves along it).
+        neighbours(v, around_v_);
         opposite_.clear();
         for (std::uint32_t i = 0; i < size_[u]; ++i) {
             const Face& f = face_[fan(u)[i]];
-            if (std::find(f.begin(), f.end(), v) == f.end()) continue;
+            if (f[0] != v && f[1] != v && f[2] != v) continue;
             for (const std::uint32_t w : f)
                 if (w != u && w != v) opposite_.push_back(w);
         }
         ++ring_now_;
         for (const Neighbour& a : around_u_) ring_[a.vertex] = ring_now_;
         std::size_t common = 0;
-        for (const Neighbour& b : around_v_) common += b.vertex != u && ring_[b.vertex] == ring_now_;
+        bool v_border = false;
+        for (const Neighbour& b : around_v_) {
+            common += b.vertex != u && ring_[b.vertex] == ring_now_;
+            v_border = v_border || b.uses == 1;
+        }
         if (common != opposite_.size()) return false;
+        if (!u_border && v_border && uses_uv == 2) {
+            // u inside, v on a border: the virtual vertex is next to v only, nothing to add.
+        }
+        // Pieces do not vanish: v and the far corners of the faces that go keep a face each.
+        if (size_[v] <= opposite_.size()) return false;
+        for (const std::uint32_t w : opposite_)
+            if (size_[w] <= 1) return false;
         if (opposite_.size() == 2) { // a face (u, a, b) and a face (v, a, b): a tetrahedron would fold flat
             const auto has_both = [&](std::uint32_t x) {
                 for (std::uint32_t i = 0; i < size_[x]; ++i) {
@@ -376,40 +439,7 @@ private:
             };
             if (has_both(u) && has_both(v)) return false;
         }
-        // Geometry: every new face keeps some area and faces the way the original surface does.
-        const V3& pu = pos(u);
-        const V3& pv = pos(v);
-        double nearest = std::numeric_limits<double>::infinity(), carried = 0;
-        bool any_new = false;
-        for (std::uint32_t i = 0; i < size_[u]; ++i) {
-            const std::uint32_t fi = fan(u)[i];
-            carried = std::max(carried, double(face_error_[fi]));
-            const Face& f = face_[fi];
-            if (std::find(f.begin(), f.end(), v) != f.end()) continue;
-            any_new = true;
-            std::array<const V3*, 3> was{&pos(f[0]), &pos(f[1]), &pos(f[2])}, now = was;
-            V3 reference{0, 0, 0};
-            for (int k = 0; k < 3; ++k) {
-                if (f[k] == u) now[k] = &pv;
-                const V3& r = reference_[f[k] == u ? v : f[k]];
-                for (int i2 = 0; i2 < 3; ++i2) reference[i2] += r[i2];
-            }
-            const V3 n_was = cross(sub(*was[1], *was[0]), sub(*was[2], *was[0]));
-            const V3 n_now = cross(sub(*now[1], *now[0]), sub(*now[2], *now[0]));
-            const double len_now = norm(n_now), len_was = norm(n_was), len_ref = norm(reference);
-            double longest = 0;
-            for (int k = 0; k < 3; ++k) longest = std::max(longest, dot(sub(*now[k], *now[(k + 1) % 3]), sub(*now[k], *now[(k + 1) % 3])));
-            if (!(len_now > min_area_ratio * longest)) return false;
-            if (!(dot(n_now, reference) > min_cos_original * len_now * len_ref)) return false;
-            if (len_was > 0 && !(dot(n_now, n_was) > min_cos_replaced * len_now * len_was)) return false;
-            if (nearest > 1e-3 * s_.bound) // u on (or next to) a new face already: no need to look further
-                nearest = std::min(nearest, point_triangle_distance(pu, *now[0], *now[1], *now[2]));
-        }
-        if (!any_new) nearest = 0; // u's faces all go: nothing of its surface is left to stand for
-        if (u_border && other_border != std::numeric_limits<std::uint32_t>::max())
-            nearest = std::max(nearest, segment_distance(pu, pv, pos(other_border)));
-        error = std::sqrt(carried * carried + nearest * nearest);
-        return error <= s_.bound;
+        return true;
     }
 
     void collapse(std::uint32_t u, std::uint32_t v, double error) {
@@ -497,17 +527,17 @@ void remove_unused_vertices(Mesh& mesh) {
         for (std::uint32_t& v : t) v = remap[v];
 }
 
-// Blocks of edge `edge` (the grid shifted by `shift` edges on every axis): the alive faces by
-// the block their centroid falls in, blocks in grid order, faces in their order in each.
-void cut_into_blocks(const Shared& s, const V3& lo, const V3& hi, double edge, double shift,
-                     std::vector<std::uint32_t>& order, std::vector<std::size_t>& starts) {
+// Blocks of edge `edge` (the grid shifted by `shift` edges on every axis): the alive faces that
+// are `active` by the block their centroid falls in, blocks in grid order, faces in their order.
+void cut_into_blocks(const Shared& s, const std::vector<char>& active, const V3& lo, const V3& hi, double edge,
+                     double shift, std::vector<std::uint32_t>& order, std::vector<std::size_t>& starts) {
     std::array<std::uint64_t, 3> dims{};
     for (int a = 0; a < 3; ++a) dims[a] = std::uint64_t((hi[a] - lo[a]) / edge + shift) + 1;
     const std::size_t n = s.faces.size();
     std::vector<std::uint32_t> key(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t f = range.begin(); f < range.end(); ++f) {
-            if (!s.face_alive[f]) continue;
+            if (!s.face_alive[f] || !active[f]) continue;
             std::uint64_t k = 0;
             for (int a = 2; a >= 0; --a) {
                 const double c = (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) / 3;
@@ -519,7 +549,7 @@ void cut_into_blocks(const Shared& s, const V3& lo, const V3& hi, double edge, d
     const std::uint64_t blocks = dims[0] * dims[1] * dims[2];
     std::vector<std::size_t> count(blocks + 1, 0);
     for (std::size_t f = 0; f < n; ++f)
-        if (s.face_alive[f]) ++count[key[f] + 1];
+        if (s.face_alive[f] && active[f]) ++count[key[f] + 1];
     for (std::size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
     order.resize(count[blocks]);
     starts.clear();
@@ -527,7 +557,7 @@ void cut_into_blocks(const Shared& s, const V3& lo, const V3& hi, double edge, d
         if (count[b + 1] > count[b]) starts.push_back(count[b]);
     starts.push_back(order.size());
     for (std::size_t f = 0; f < n; ++f)
-        if (s.face_alive[f]) order[count[key[f]]++] = std::uint32_t(f);
+        if (s.face_alive[f] && active[f]) order[count[key[f]]++] = std::uint32_t(f);
 }
 
 } // namespace
@@ -579,35 +609,39 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     std::vector<std::uint32_t> order;
     std::vector<std::size_t> starts;
     tbb::enumerable_thread_specific<Block> workspace([&] { return Block(s); });
+    // Later passes take only the faces near the vertices the pass before held (around them, and
+    // around their neighbours): elsewhere the blocks have done what they could.
+    std::vector<char> active(nf, 1), held(nv, 0);
+    std::vector<std::uint32_t> owner(nv);
+    constexpr std::uint32_t nobody = std::numeric_limits<std::uint32_t>::max();
     constexpr int passes = 3;
     for (int pass = 0; pass < passes && block_edge > 0; ++pass) {
-        s.valence.assign(nv, 0);
-        for (std::size_t f = 0; f < nf; ++f)
-            if (s.face_alive[f])
-                for (const std::uint32_t v : s.faces[f]) ++s.valence[v];
-        cut_into_blocks(s, lo, hi, block_edge, pass % 2 ? 0.5 : 0.0, order, starts);
+        cut_into_blocks(s, active, lo, hi, block_edge, pass % 2 ? 0.5 : 0.0, order, starts);
         const std::size_t blocks = starts.size() - 1;
-        if (pass == 0) {
-            // The planes of the original faces around the vertices blocks share, from every
-            // block, added in block order.
-            std::vector<std::vector<PlaneSums>> held(blocks);
-            tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-                Block& mine = workspace.local();
-                mine.load(order.data() + starts[b], starts[b + 1] - starts[b]);
-                mine.gather_held(held[b]);
-            });
-            std::vector<char> started(nv, 0);
-            for (const auto& sums : held)
-                for (const PlaneSums& p : sums) {
-                    if (!started[p.vertex]) {
-                        started[p.vertex] = 1, s.slot[p.vertex] = std::uint32_t(s.stored.size()), s.stored.push_back(p);
-                        continue;
-                    }
-                    PlaneSums& to = s.stored[s.slot[p.vertex]];
-                    to.quadric.add(p.quadric);
-                    to.weight += p.weight;
-                    for (int a = 0; a < 3; ++a) to.reference[a] += p.reference[a];
+        std::fill(owner.begin(), owner.end(), nobody);
+        std::fill(held.begin(), held.end(), 0);
+        for (std::size_t b = 0; b < blocks; ++b)
+            for (std::size_t i = starts[b]; i < starts[b + 1]; ++i)
+                for (const std::uint32_t v : s.faces[order[i]]) {
+                    if (owner[v] == nobody) owner[v] = std::uint32_t(b);
+                    else if (owner[v] != b) held[v] = 1;
                 }
+        s.outside = held;
+        if (pass > 0) // faces left out of this pass hold their vertices too
+            for (std::size_t f = 0; f < nf; ++f)
+                if (s.face_alive[f] && !active[f])
+                    for (const std::uint32_t v : s.faces[f]) s.outside[v] = 1;
+        if (pass == 0) {
+            // The planes of the original faces around the vertices blocks share, in face order.
+            for (std::uint32_t v = 0; v < nv; ++v)
+                if (held[v]) s.slot[v] = std::uint32_t(s.stored.size()), s.stored.push_back(PlaneSums{});
+            for (std::size_t f = 0; f < nf; ++f) {
+                const Face& t = s.faces[f];
+                if (!held[t[0]] && !held[t[1]] && !held[t[2]]) continue;
+                const Plane plane = face_plane(s.position, t);
+                for (const std::uint32_t v : t)
+                    if (held[v]) plane.add_to(s.stored[s.slot[v]]);
+            }
             for (PlaneSums& p : s.stored) unit_normal(p.reference);
         }
         std::vector<std::vector<PlaneSums>> kept(blocks);
@@ -618,6 +652,22 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
         });
         for (const auto& list : kept) // the first pass's vertices that only one block had
             for (const PlaneSums& p : list) s.slot[p.vertex] = std::uint32_t(s.stored.size()), s.stored.push_back(p);
+        if (pass + 1 == passes) break;
+        const auto touches = [&](std::size_t f) {
+            return s.face_alive[f] && (held[s.faces[f][0]] || held[s.faces[f][1]] || held[s.faces[f][2]]);
+        };
+        for (int ring = 0; ring < 2; ++ring) { // held vertices, then their neighbours too
+            std::vector<char> near = held;
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t f = range.begin(); f < range.end(); ++f)
+                    if (touches(f))
+                        for (const std::uint32_t v : s.faces[f]) std::atomic_ref<char>(near[v]).store(1, std::memory_order_relaxed);
+            });
+            held.swap(near);
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t f = range.begin(); f < range.end(); ++f) active[f] = touches(f);
+        });
     }
 
     std::size_t kept = 0;
