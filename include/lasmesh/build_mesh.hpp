@@ -55,9 +55,9 @@ struct OutputRequest {
 
 // How far simplification may move the surface: a length in the file's units, or in cells.
 struct SimplifyRequest {
-    // Default: half a cell. On the 5M-point deck's sheets it keeps 1/12 (grid 1024) to 1/21
-    // (grid 512) of the triangles while the cloud-to-mesh distances grow by less than 0.1 cell
-    // (docs/benchmarks.md). 0: no simplification.
+    // Default: half a cell. On the 5M-point deck's sheets it keeps 1/5 (grid 1024) to 1/8
+    // (grid 512) of the triangles while the cloud-to-mesh distances grow by less than 0.01 cell,
+    // with no face turned over (docs/benchmarks.md). 0: no simplification.
     double error = 0.5;
     bool in_cells = true;     // `error` counts grid cells (0.5: half a cell)
     bool lock_border = false; // open borders stay where they are (tile seams)

@@ -29,7 +29,7 @@ struct SimplifyReport {
 // replace it, the errors along successive collapses added as independent (root of the sum of
 // squares), and a border vertex within `error` of the new border; pieces never vanish. The
 // sampled distance between the two surfaces, both ways, stays within about `error` (1.02 x at
-// most on the deck, docs/benchmarks.md). No face turns over against the original surface, none is
+// most on the deck at half a cell, up to 1.4 x at a whole cell: docs/benchmarks.md). No face turns over against the original surface, none is
 // left without area, triangles keep their winding, and no edge becomes non-manifold (borders
 // stay borders, holes stay holes). Deterministic: the same bytes for any thread count.
 // Vertices where a sheet touches itself, and (lock_border) all vertices on open borders, stay.
