@@ -12,8 +12,6 @@ packages=(
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libdraco-dev draco
-  # simplification (--simplify)
-  libmeshoptimizer-dev
   # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc
   gzip bzip2 xz-utils zstd python3 bc
   # the install test renders the man page

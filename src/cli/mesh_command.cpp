@@ -60,7 +60,7 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
         ->capture_default_str();
     app.add_option("--simplify", o.simplify,
                    "Simplify until the surface would move more than this: a length in the file's units, a "
-                   "fraction of a cell (0.5cell), or 0 for none")
+                   "fraction of a cell (0.5cell, the default), or 0 for none")
         ->capture_default_str();
     app.add_flag("--normals,!--no-normals", o.normals, "Per-vertex normals in every output (default: on)");
     app.add_option("--glb-compression", o.glb_compression,

@@ -19,7 +19,7 @@ struct MeshOptions {
     SurfaceKind surface = SurfaceKind::sheet;
     std::string placement = "surface";
     std::string min_piece = "5%";
-    std::string simplify = "0";
+    std::string simplify = "0.5cell";
     bool normals = true;
     std::string glb_compression = "none";
     std::string glb_origin = "extras";

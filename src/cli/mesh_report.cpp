@@ -80,8 +80,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : std::string()) << "\n"
             << "simplify       ";
     if (r.simplify.error > 0)
-        summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, the surface moved "
-                << "at most " << format_double(r.simplify.error) << " (" << c.simplify_text << "), in "
+        summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, bound "
+                << format_double(r.simplify.error) << " (" << c.simplify_text << "), in "
                 << two_digits(r.simplify.seconds) << " s\n";
     else
         summary << "off\n";

@@ -1,15 +1,509 @@
-// Simplification with meshoptimizer (Debian's libmeshoptimizer-dev, 0.18). Its error is relative
-// to the mesh extent (meshopt_simplifyScale), so the bound in file units is divided by that scale.
+// Simplification to an error bound by half-edge collapses (a vertex moves onto a neighbour, so
+// kept vertices keep their position, colour and normal), ordered by the quadric error metric of
+// Garland & Heckbert 1997, "Surface simplification using quadric error metrics" (SIGGRAPH 97):
+// each vertex carries the sum of the planes of the original faces merged into it, weighted by
+// area, and the cheapest collapse goes first. Our own implementation; on top of the paper:
+//
+// - a bound, not a target: every face carries how far the original surface it stands for may be
+//   from it (the distance of each removed vertex to the plane of every face that replaces it,
+//   its largest, added in quadrature along the collapses), and no collapse may take that past
+//   the bound; a border vertex stays within it of the new border, and no piece vanishes;
+// - no face turns over: a collapse is refused when a new face's normal points away from the
+//   original surface (the original normals of its three vertices) or turns far from the face it
+//   replaces, or when it has (next to) no area;
+// - no new non-manifold edges: the link condition (Dey, Edelsbrunner et al. 1999) with open
+//   borders closed by a virtual vertex, and vertices where a sheet touches itself never move;
+//   border vertices move only along their border, and no farther from it than the bound;
+// - in parallel and deterministic: the mesh is cut into blocks by a fixed grid (its edge a
+//   multiple of the mean edge length), each block is simplified by one thread with the vertices
+//   it shares with other blocks held, and further passes with the grid shifted by half a block
+//   free those. Blocks never share what they write, so any thread count gives the same bytes.
 #include "lasmesh/mesh/simplify.hpp"
 
-#include <meshoptimizer.h>
+#include "lasmesh/measure/mesh_distance.hpp"
+#include "lasmesh/mesh/normals.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <limits>
+#include <memory>
 
 namespace lasmesh {
 
 namespace {
+
+using Face = std::array<std::uint32_t, 3>;
+using V3 = std::array<double, 3>;
+
+V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+V3 cross(const V3& a, const V3& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+
+// A symmetric 4x4 matrix: the sum of the squared distances to planes, p^T Q p with p = (x, y, z, 1).
+struct Quadric {
+    double xx, xy, xz, xw, yy, yz, yw, zz, zw, ww; // Quadric{} is zero
+    void add_plane(const V3& n, double d, double weight) {
+        xx += weight * n[0] * n[0], xy += weight * n[0] * n[1], xz += weight * n[0] * n[2], xw += weight * n[0] * d;
+        yy += weight * n[1] * n[1], yz += weight * n[1] * n[2], yw += weight * n[1] * d;
+        zz += weight * n[2] * n[2], zw += weight * n[2] * d, ww += weight * d * d;
+    }
+    void add(const Quadric& q) {
+        xx += q.xx, xy += q.xy, xz += q.xz, xw += q.xw, yy += q.yy, yz += q.yz, yw += q.yw, zz += q.zz, zw += q.zw, ww += q.ww;
+    }
+    double at(const V3& p) const {
+        const double x = p[0], y = p[1], z = p[2];
+        return x * (xx * x + 2 * (xy * y + xz * z + xw)) + y * (yy * y + 2 * (yz * z + yw)) + z * (zz * z + 2 * zw) + ww;
+    }
+};
+
+void unit_normal(V3& n) {
+    const double length = norm(n);
+    if (length > 0) n = {n[0] / length, n[1] / length, n[2] / length};
+}
+
+// Distance from p to the segment ab.
+double segment_distance(const V3& p, const V3& a, const V3& b) {
+    const V3 ab = sub(b, a), ap = sub(p, a);
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(ap, ab) / len2, 0.0, 1.0) : 0.0;
+    return norm(sub(ap, {ab[0] * t, ab[1] * t, ab[2] * t}));
+}
+
+// Limits on a new face: its normal against the original surface's at its corners, and against
+// the face it replaces (cosines). A face standing more than ~78 degrees off either is refused.
+constexpr double min_cos_original = 0.2;
+constexpr double min_cos_replaced = 0.2;
+// A face with a cross product below this fraction of its longest edge squared has no area.
+constexpr double min_area_ratio = 1e-4;
+
+// Per vertex: the sum of the planes of its faces, their area, and its faces' normals.
+struct PlaneSums { // PlaneSums{} is zero; `new PlaneSums[n]` leaves it to be set
+    Quadric quadric;
+    double weight;
+    V3 reference; // a unit vector once all faces are in
+    std::uint32_t vertex;
+};
+
+// A face's plane as a quadric weighted by its area, and its normal as long as twice its area.
+struct Plane {
+    Quadric quadric;
+    double area;
+    V3 normal;
+    void add_to(PlaneSums& p) const {
+        p.quadric.add(quadric), p.weight += area;
+        for (int a = 0; a < 3; ++a) p.reference[a] += normal[a];
+    }
+};
+
+Plane face_plane(const std::vector<std::array<float, 3>>& position, const Face& t) {
+    const auto at = [&](std::uint32_t v) { return V3{position[v][0], position[v][1], position[v][2]}; };
+    const V3 a = at(t[0]);
+    Plane p{{}, 0, cross(sub(at(t[1]), a), sub(at(t[2]), a))};
+    const double length = norm(p.normal);
+    if (!(length > 0)) return p;
+    const V3 unit{p.normal[0] / length, p.normal[1] / length, p.normal[2] / length};
+    p.area = length / 2;
+    p.quadric.add_plane(unit, -dot(unit, a), p.area);
+    return p;
+}
+
+// What the blocks share. Each block writes only its own faces and the vertices no other block
+// touches, so blocks run in any order, at once, with the same result.
+struct Shared {
+    const std::vector<std::array<float, 3>>& position;
+    std::vector<Face>& faces;         // current faces
+    // Per vertex, where its quadric, area and original unit normal are in `stored` (after the
+    // first pass: every vertex left; during it, the vertices blocks share).
+    std::vector<std::uint32_t> slot;
+    std::vector<PlaneSums> stored;
+    std::vector<char> face_alive;
+    std::vector<float> face_error;    // how far the original surface it stands for may be
+    std::vector<char> locked;         // vertices that never move
+    std::vector<char> outside; // per vertex, this pass: faces in other blocks, or in none
+    double bound = 0;
+};
+
+// One thread's workspace: loads a block of faces (in local numbers, with the faces around each
+// vertex) and simplifies it. Reused from block to block, so its buffers are allocated once.
+class Block {
+public:
+    explicit Block(Shared& s) : s_(s), local_(s.locked.size()), seen_(s.locked.size(), 0) {}
+
+    void load(const std::uint32_t* face_ids, std::size_t count) {
+        ++mark_; // seen_[g] == mark_: g has a local number in this block, local_[g]
+        global_face_.assign(face_ids, face_ids + count);
+        global_.clear();
+        face_.resize(count);
+        for (std::size_t f = 0; f < count; ++f)
+            for (int k = 0; k < 3; ++k) { // local numbers in order of first use: the same in any thread
+                const std::uint32_t g = s_.faces[global_face_[f]][k];
+                if (seen_[g] != mark_) seen_[g] = mark_, local_[g] = std::uint32_t(global_.size()), global_.push_back(g);
+                face_[f][k] = local_[g];
+            }
+        const std::size_t n = global_.size();
+        position_.resize(n);
+        for (std::size_t v = 0; v < n; ++v) {
+            const auto& p = s_.position[global_[v]];
+            position_[v] = {p[0], p[1], p[2]};
+        }
+        face_alive_.assign(count, 1);
+        size_.assign(n, 0);
+        for (const Face& f : face_)
+            for (const std::uint32_t v : f) ++size_[v];
+        begin_.resize(n), capacity_.resize(n);
+        std::uint32_t at = 0;
+        for (std::size_t v = 0; v < n; ++v) begin_[v] = at, capacity_[v] = size_[v] + 4, at += capacity_[v], size_[v] = 0;
+        pool_.resize(at);
+        for (std::uint32_t f = 0; f < count; ++f)
+            for (const std::uint32_t v : face_[f]) pool_[begin_[v] + size_[v]++] = f;
+        tag_.assign(n, 0), slot_.assign(n, 0), ring_.assign(n, 0);
+        tag_now_ = ring_now_ = 0;
+    }
+
+    // Sums the planes (quadric, area) and area-weighted normals of the block's faces per vertex.
+    void sum_planes() {
+        const std::size_t n = global_.size();
+        quadric_.assign(n, Quadric{}), weight_.assign(n, 0), reference_.assign(n, {0, 0, 0});
+        for (std::size_t f = 0; f < face_.size(); ++f) {
+            const Plane plane = face_plane(s_.position, s_.faces[global_face_[f]]);
+            for (const std::uint32_t v : face_[f]) {
+                quadric_[v].add(plane.quadric), weight_[v] += plane.area;
+                for (int a = 0; a < 3; ++a) reference_[v][a] += plane.normal[a];
+            }
+        }
+    }
+
+    // Simplifies the block. First pass: the planes come from the block's faces (the shared
+    // vertices' from s_.stored), and the vertices only this block has that are left go to
+    // `kept`; later passes: from and back to s_.stored.
+    void run(bool first_pass, std::vector<PlaneSums>& kept) {
+        const std::size_t n = global_.size();
+        movable_.assign(n, 0), target_.assign(n, 0), stamp_.assign(n, 0), alive_.assign(n, 1), queued_.assign(n, 0);
+        interior_.assign(n, 0);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const std::uint32_t g = global_[v];
+            if (s_.outside[g]) continue; // shares faces with another block, or with none this pass: held
+            interior_[v] = 1;
+            if (!simple_fan(v)) continue;            // a sheet touching itself here, or worse
+            target_[v] = 1;
+            movable_[v] = !s_.locked[g];
+        }
+        if (first_pass) {
+            sum_planes();
+            for (std::uint32_t v = 0; v < n; ++v) {
+                const std::uint32_t g = global_[v];
+                if (interior_[v]) unit_normal(reference_[v]);
+                else reference_[v] = s_.stored[s_.slot[g]].reference;
+            }
+        } else {
+            quadric_.resize(n), weight_.resize(n), reference_.resize(n);
+            for (std::uint32_t v = 0; v < n; ++v) {
+                const PlaneSums& p = s_.stored[s_.slot[global_[v]]];
+                quadric_[v] = p.quadric, weight_[v] = p.weight, reference_[v] = p.reference;
+            }
+        }
+        heap_.clear();
+        face_error_.resize(face_.size());
+        for (std::size_t f = 0; f < face_.size(); ++f) face_error_[f] = s_.face_error[global_face_[f]];
+        for (std::uint32_t v = 0; v < global_.size(); ++v) // the first costs, heaped at once
+            if (movable_[v]) push(v, false);
+        std::make_heap(heap_.begin(), heap_.end());
+        while (!heap_.empty()) {
+            std::pop_heap(heap_.begin(), heap_.end());
+            const Entry e = heap_.back();
+            heap_.pop_back();
+            if (!alive_[e.vertex] || e.stamp != stamp_[e.vertex]) continue;
+            try_collapse(e.vertex, e.cost);
+        }
+        for (std::size_t f = 0; f < face_.size(); ++f) {
+            const std::uint32_t g = global_face_[f];
+            s_.face_alive[g] = face_alive_[f];
+            s_.face_error[g] = face_error_[f];
+            for (int k = 0; k < 3; ++k) s_.faces[g][k] = global_[face_[f][k]];
+        }
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const std::uint32_t g = global_[v];
+            if (!interior_[v] || !alive_[v]) continue;
+            if (first_pass) kept.push_back({quadric_[v], weight_[v], reference_[v], g});
+            else if (target_[v]) s_.stored[s_.slot[g]].quadric = quadric_[v], s_.stored[s_.slot[g]].weight = weight_[v];
+        }
+    }
+
+private:
+    struct Entry {
+        double cost;
+        std::uint32_t vertex, stamp;
+        bool operator<(const Entry& o) const { return cost != o.cost ? cost > o.cost : vertex > o.vertex; }
+    };
+    struct Neighbour {
+        std::uint32_t vertex, uses;
+        Neighbour() {} // left unset by resize: neighbours() fills what it keeps
+        Neighbour(std::uint32_t v, std::uint32_t n) : vertex(v), uses(n) {}
+    };
+
+    const V3& pos(std::uint32_t v) const { return position_[v]; }
+    const Quadric& quadric(std::uint32_t v) const { return quadric_[v]; }
+    double weight(std::uint32_t v) const { return weight_[v]; }
+    const std::uint32_t* fan(std::uint32_t v) const { return pool_.data() + begin_[v]; }
+
+    // The vertices around v and how many of v's faces use the edge to each: 1 on an open border.
+    void neighbours(std::uint32_t v, std::vector<Neighbour>& out) {
+        out.resize(2 * size_[v] + 2); // at most two new neighbours a face
+        Neighbour* next = out.data();
+        ++tag_now_;
+        const std::uint32_t* around = fan(v);
+        for (std::uint32_t i = 0; i < size_[v]; ++i)
+            for (const std::uint32_t w : face_[around[i]]) {
+                if (w == v) continue;
+                if (tag_[w] != tag_now_) tag_[w] = tag_now_, slot_[w] = std::uint32_t(next - out.data()), *next++ = {w, 1};
+                else ++out[slot_[w]].uses;
+            }
+        out.resize(std::size_t(next - out.data()));
+    }
+
+    // One fan of faces around v, joined edge to edge, open (two border edges) or closed: the
+    // edges opposite v join all of v's neighbours into one piece.
+    bool simple_fan(std::uint32_t v) {
+        neighbours(v, around_);
+        std::size_t border = 0;
+        for (const Neighbour& n : around_) {
+            if (n.uses > 2) return false;
+            border += n.uses == 1;
+        }
+        if (border != 0 && border != 2) return false;
+        parent_.resize(around_.size());
+        for (std::uint32_t i = 0; i < parent_.size(); ++i) parent_[i] = i;
+        const auto root = [&](std::uint32_t i) {
+            while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+            return i;
+        };
+        std::size_t pieces = around_.size();
+        for (std::uint32_t i = 0; i < size_[v]; ++i) {
+            const Face& f = face_[fan(v)[i]];
+            if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return false;
+            const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+            const std::uint32_t a = root(slot_[f[(at + 1) % 3]]), b = root(slot_[f[(at + 2) % 3]]);
+            if (a != b) parent_[a] = b, --pieces;
+        }
+        return pieces == 1;
+    }
+
+    double cost(std::uint32_t u, std::uint32_t v) const {
+        const double w = weight(u) + weight(v);
+        const V3& p = pos(v);
+        const double q = quadric(u).at(p) + quadric(v).at(p);
+        return w > 0 ? std::max(0.0, q) / w : 0.0;
+    }
+
+    // Queues u at the cost of its cheapest collapse, if within the bound.
+    void push(std::uint32_t u, bool heap = true) {
+        neighbours(u, around_);
+        push(u, around_, heap);
+    }
+    void push(std::uint32_t u, const std::vector<Neighbour>& around, bool heap = true) {
+        ++stamp_[u];
+        double best = std::numeric_limits<double>::infinity();
+        for (const Neighbour& n : around)
+            if (target_[n.vertex]) best = std::min(best, cost(u, n.vertex));
+        queued_[u] = best <= s_.bound * s_.bound;
+        if (!queued_[u]) return;
+        heap_.push_back({best, u, stamp_[u]});
+        if (heap) std::push_heap(heap_.begin(), heap_.end());
+    }
+
+    // u came off the queue at `queued_cost`. Its neighbours' collapses since may have made its
+    // own dearer: then it goes back at the new cost. Otherwise the cheapest allowed collapse is
+    // made; with none allowed, u waits until its neighbourhood changes.
+    void try_collapse(std::uint32_t u, double queued_cost) {
+        queued_[u] = 0;
+        neighbours(u, around_u_);
+        candidates_.clear();
+        for (const Neighbour& n : around_u_)
+            if (target_[n.vertex]) {
+                const double c = cost(u, n.vertex);
+                if (c <= s_.bound * s_.bound) candidates_.push_back({c, n.vertex, 0});
+            }
+        if (candidates_.empty()) return;
+        std::sort(candidates_.begin(), candidates_.end(),
+                  [](const Entry& a, const Entry& b) { return a.cost != b.cost ? a.cost < b.cost : a.vertex < b.vertex; });
+        if (candidates_[0].cost > queued_cost * (1 + 1e-6) + 1e-30) {
+            ++stamp_[u];
+            queued_[u] = 1;
+            heap_.push_back({candidates_[0].cost, u, stamp_[u]});
+            std::push_heap(heap_.begin(), heap_.end());
+            return;
+        }
+        for (const Entry& c : candidates_) {
+            double error = 0;
+            if (collapse_allowed(u, c.vertex, error)) return collapse(u, c.vertex, error);
+        }
+    }
+
+    // Whether u may move onto v, and the error its new faces would then carry. The cheap
+    // geometric refusals come first, the topology (which needs v's neighbours) last.
+    bool collapse_allowed(std::uint32_t u, std::uint32_t v, double& error) {
+        // u on a border moves only along it, and its border no farther than the bound.
+        bool u_border = false;
+        std::uint32_t uses_uv = 0, other_border = std::numeric_limits<std::uint32_t>::max();
+        for (const Neighbour& n : around_u_) {
+            if (n.uses == 1) {
+                u_border = true;
+                if (n.vertex != v) other_border = n.vertex;
+            }
+            if (n.vertex == v) uses_uv = n.uses;
+        }
+        if (u_border && uses_uv != 1) return false;
+        // Geometry: the error the new faces carry (what u's faces carried, and u's distance to
+        // the plane of each new face, added in quadrature) within the bound; every new face
+        // keeps some area, faces the way the original surface does at its corners, and does
+        // not turn far from the face it replaces.
+        const double bound2 = s_.bound * s_.bound;
+        double carried = 0;
+        for (std::uint32_t i = 0; i < size_[u]; ++i) carried = std::max(carried, double(face_error_[fan(u)[i]]));
+        const double room = bound2 - carried * carried; // for the largest distance squared
+        if (room < 0) return false;
+        const V3& pu = pos(u);
+        const V3& pv = pos(v);
+        double farthest2 = 0;
+        if (u_border && other_border != std::numeric_limits<std::uint32_t>::max()) {
+            const double d = segment_distance(pu, pv, pos(other_border));
+            farthest2 = d * d;
+            if (farthest2 > room) return false;
+        }
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const Face& f = face_[fan(u)[i]];
+            if (f[0] == v || f[1] == v || f[2] == v) continue;
+            std::array<const V3*, 3> was{&pos(f[0]), &pos(f[1]), &pos(f[2])}, now = was;
+            V3 reference{0, 0, 0};
+            for (int k = 0; k < 3; ++k) {
+                if (f[k] == u) now[k] = &pv;
+                const V3& r = reference_[f[k] == u ? v : f[k]];
+                for (int a = 0; a < 3; ++a) reference[a] += r[a];
+            }
+            const V3 n_now = cross(sub(*now[1], *now[0]), sub(*now[2], *now[0]));
+            const double len2_now = dot(n_now, n_now);
+            const double height = dot(n_now, sub(pu, *now[0]));
+            if (height * height > room * len2_now) return false;
+            farthest2 = std::max(farthest2, len2_now > 0 ? height * height / len2_now : 0.0);
+            double longest = 0;
+            for (int k = 0; k < 3; ++k) longest = std::max(longest, dot(sub(*now[k], *now[(k + 1) % 3]), sub(*now[k], *now[(k + 1) % 3])));
+            const double len_now = std::sqrt(len2_now);
+            if (!(len_now > min_area_ratio * longest)) return false;
+            if (!(dot(n_now, reference) > min_cos_original * len_now * norm(reference))) return false;
+            const V3 n_was = cross(sub(*was[1], *was[0]), sub(*was[2], *was[0]));
+            const double len_was = norm(n_was);
+            if (len_was > 0 && !(dot(n_now, n_was) > min_cos_replaced * len_now * len_was)) return false;
+        }
+        error = std::sqrt(carried * carried + farthest2);
+        // Topology: the link condition (the vertices next to both u and v are the far corners of
+        // the faces on edge uv), with open borders closed by a virtual vertex (u and v both on a
+        // border joined by an inner edge: refused above, u on a border moves along it).
+        neighbours(v, around_v_);
+        opposite_.clear();
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const Face& f = face_[fan(u)[i]];
+            if (f[0] != v && f[1] != v && f[2] != v) continue;
+            for (const std::uint32_t w : f)
+                if (w != u && w != v) opposite_.push_back(w);
+        }
+        ++ring_now_;
+        for (const Neighbour& a : around_u_) ring_[a.vertex] = ring_now_;
+        std::size_t common = 0;
+        bool v_border = false;
+        for (const Neighbour& b : around_v_) {
+            common += b.vertex != u && ring_[b.vertex] == ring_now_;
+            v_border = v_border || b.uses == 1;
+        }
+        if (common != opposite_.size()) return false;
+        if (!u_border && v_border && uses_uv == 2) {
+            // u inside, v on a border: the virtual vertex is next to v only, nothing to add.
+        }
+        // Pieces do not vanish: v and the far corners of the faces that go keep a face each.
+        if (size_[v] <= opposite_.size()) return false;
+        for (const std::uint32_t w : opposite_)
+            if (size_[w] <= 1) return false;
+        if (opposite_.size() == 2) { // a face (u, a, b) and a face (v, a, b): a tetrahedron would fold flat
+            const auto has_both = [&](std::uint32_t x) {
+                for (std::uint32_t i = 0; i < size_[x]; ++i) {
+                    const Face& f = face_[fan(x)[i]];
+                    if (std::find(f.begin(), f.end(), opposite_[0]) != f.end() && std::find(f.begin(), f.end(), opposite_[1]) != f.end())
+                        return true;
+                }
+                return false;
+            };
+            if (has_both(u) && has_both(v)) return false;
+        }
+        return true;
+    }
+
+    void collapse(std::uint32_t u, std::uint32_t v, double error) {
+        quadric_[v].add(quadric_[u]);
+        weight_[v] += weight_[u];
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const std::uint32_t fi = fan(u)[i];
+            Face& f = face_[fi];
+            if (std::find(f.begin(), f.end(), v) != f.end()) {
+                face_alive_[fi] = 0; // the faces on the edge go: off the fans of their other vertices
+                for (const std::uint32_t w : f) {
+                    if (w == u) continue;
+                    std::uint32_t* list = pool_.data() + begin_[w];
+                    for (std::uint32_t j = 0; j < size_[w]; ++j)
+                        if (list[j] == fi) {
+                            std::copy(list + j + 1, list + size_[w], list + j);
+                            --size_[w];
+                            break;
+                        }
+                }
+                continue;
+            }
+            for (std::uint32_t& w : f)
+                if (w == u) w = v;
+            face_error_[fi] = float(error);
+            append(v, fi);
+        }
+        size_[u] = 0;
+        alive_[u] = 0;
+        neighbours(v, around_v_);
+        if (movable_[v]) push(v, around_v_);
+        for (const Neighbour& n : around_v_) // wake those that found no collapse before
+            if (movable_[n.vertex] && alive_[n.vertex] && !queued_[n.vertex]) push(n.vertex);
+    }
+
+    void append(std::uint32_t v, std::uint32_t f) {
+        if (size_[v] == capacity_[v]) { // move the fan to the end of the pool, twice as roomy
+            const std::uint32_t at = std::uint32_t(pool_.size());
+            pool_.resize(pool_.size() + 2 * capacity_[v]);
+            std::copy(pool_.begin() + begin_[v], pool_.begin() + begin_[v] + size_[v], pool_.begin() + at);
+            begin_[v] = at, capacity_[v] *= 2;
+        }
+        pool_[begin_[v] + size_[v]++] = f;
+    }
+
+    Shared& s_;
+    std::vector<std::uint32_t> global_face_, global_; // local face and vertex -> global
+    std::vector<Face> face_;                           // in local vertex numbers
+    std::vector<char> face_alive_;
+    std::vector<std::uint32_t> pool_, begin_, size_, capacity_; // the faces around each vertex
+    std::vector<char> interior_, movable_, target_, alive_, queued_;
+    std::vector<V3> position_, reference_;
+    std::vector<float> face_error_;
+    std::vector<std::uint32_t> stamp_;
+    std::vector<Quadric> quadric_;
+    std::vector<double> weight_;
+    std::vector<Entry> heap_; // a heap: std::push_heap, std::pop_heap
+    std::vector<std::uint32_t> local_, seen_;
+    std::uint32_t mark_ = 0;
+    std::vector<Neighbour> around_, around_u_, around_v_;
+    std::vector<std::uint32_t> opposite_, tag_, slot_, parent_, ring_;
+    std::uint32_t tag_now_ = 0, ring_now_ = 0;
+    std::vector<Entry> candidates_;
+};
 
 // Drops the vertices no triangle uses and renumbers the rest in their old order.
 void remove_unused_vertices(Mesh& mesh) {
@@ -33,6 +527,39 @@ void remove_unused_vertices(Mesh& mesh) {
         for (std::uint32_t& v : t) v = remap[v];
 }
 
+// Blocks of edge `edge` (the grid shifted by `shift` edges on every axis): the alive faces that
+// are `active` by the block their centroid falls in, blocks in grid order, faces in their order.
+void cut_into_blocks(const Shared& s, const std::vector<char>& active, const V3& lo, const V3& hi, double edge,
+                     double shift, std::vector<std::uint32_t>& order, std::vector<std::size_t>& starts) {
+    std::array<std::uint64_t, 3> dims{};
+    for (int a = 0; a < 3; ++a) dims[a] = std::uint64_t((hi[a] - lo[a]) / edge + shift) + 1;
+    const std::size_t n = s.faces.size();
+    std::vector<std::uint32_t> key(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t f = range.begin(); f < range.end(); ++f) {
+            if (!s.face_alive[f] || !active[f]) continue;
+            std::uint64_t k = 0;
+            for (int a = 2; a >= 0; --a) {
+                const double c = (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) / 3;
+                k = k * dims[a] + std::min<std::uint64_t>(dims[a] - 1, std::uint64_t(std::max(0.0, (c - lo[a]) / edge + shift)));
+            }
+            key[f] = std::uint32_t(k);
+        }
+    });
+    const std::uint64_t blocks = dims[0] * dims[1] * dims[2];
+    std::vector<std::size_t> count(blocks + 1, 0);
+    for (std::size_t f = 0; f < n; ++f)
+        if (s.face_alive[f] && active[f]) ++count[key[f] + 1];
+    for (std::size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
+    order.resize(count[blocks]);
+    starts.clear();
+    for (std::size_t b = 0; b < blocks; ++b)
+        if (count[b + 1] > count[b]) starts.push_back(count[b]);
+    starts.push_back(order.size());
+    for (std::size_t f = 0; f < n; ++f)
+        if (s.face_alive[f] && active[f]) order[count[key[f]]++] = std::uint32_t(f);
+}
+
 } // namespace
 
 SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
@@ -42,24 +569,119 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     report.error = options.error;
     if (!(options.error > 0) || mesh.triangles.empty()) return report;
 
-    const float* positions = mesh.positions[0].data();
-    const std::size_t stride = sizeof mesh.positions[0];
-    const float scale = meshopt_simplifyScale(positions, mesh.positions.size(), stride);
-    if (!(scale > 0)) return report;
-    const auto* indices = mesh.triangles[0].data();
-    const std::size_t index_count = 3 * mesh.triangles.size();
-    std::vector<unsigned int> out(index_count);
-    float result_error = 0;
-    // Target 0 triangles: only the error bound stops the collapses.
-    const std::size_t kept = meshopt_simplify(out.data(), indices, index_count, positions, mesh.positions.size(), stride, 0,
-                                              static_cast<float>(options.error / scale),
-                                              options.lock_border ? meshopt_SimplifyLockBorder : 0, &result_error);
-    mesh.triangles.resize(kept / 3);
-    for (std::size_t t = 0; t < kept / 3; ++t) mesh.triangles[t] = {out[3 * t], out[3 * t + 1], out[3 * t + 2]};
+    const std::size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
+    Shared s{mesh.positions, mesh.triangles, {}, {}, {}, {}, {}, {}, options.error};
+    V3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+    V3 hi{-lo[0], -lo[1], -lo[2]};
+    for (const auto& p : mesh.positions)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a])), hi[a] = std::max(hi[a], double(p[a]));
+    // The mean edge length, from at most 65536 faces spread over the mesh.
+    double edge_sum = 0;
+    std::size_t edges = 0;
+    for (std::size_t f = 0; f < nf; f += nf / 65536 + 1, edges += 3)
+        for (int k = 0; k < 3; ++k) {
+            const auto &a = mesh.positions[mesh.triangles[f][k]], &b = mesh.positions[mesh.triangles[f][(k + 1) % 3]];
+            edge_sum += norm({double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]});
+        }
+    s.slot.assign(nv, 0);
+    s.locked.assign(nv, 0);
+    s.face_alive.assign(nf, 1);
+    s.face_error.assign(nf, 0);
+    if (options.lock_border) { // a vertex on an edge only one face uses
+        std::vector<std::uint64_t> all;
+        all.reserve(3 * nf);
+        for (const Face& f : mesh.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t a = f[k], b = f[(k + 1) % 3];
+                all.push_back(std::min(a, b) << 32 | std::max(a, b));
+            }
+        std::sort(all.begin(), all.end());
+        for (std::size_t i = 0; i < all.size();) {
+            std::size_t j = i;
+            while (j < all.size() && all[j] == all[i]) ++j;
+            if (j - i == 1) s.locked[all[i] >> 32] = s.locked[all[i] & 0xffffffffu] = 1;
+            i = j;
+        }
+    }
+
+    // Blocks of about 32 mean edges: a thousand or some thousands of faces each, ~10% held.
+    const double block_edge = 32 * edge_sum / double(std::max<std::size_t>(1, edges));
+    std::vector<std::uint32_t> order;
+    std::vector<std::size_t> starts;
+    tbb::enumerable_thread_specific<Block> workspace([&] { return Block(s); });
+    // Later passes take only the faces near the vertices the pass before held (around them, and
+    // around their neighbours): elsewhere the blocks have done what they could.
+    std::vector<char> active(nf, 1), held(nv, 0);
+    std::vector<std::uint32_t> owner(nv);
+    constexpr std::uint32_t nobody = std::numeric_limits<std::uint32_t>::max();
+    constexpr int passes = 3;
+    for (int pass = 0; pass < passes && block_edge > 0; ++pass) {
+        cut_into_blocks(s, active, lo, hi, block_edge, pass % 2 ? 0.5 : 0.0, order, starts);
+        const std::size_t blocks = starts.size() - 1;
+        std::fill(owner.begin(), owner.end(), nobody);
+        std::fill(held.begin(), held.end(), 0);
+        for (std::size_t b = 0; b < blocks; ++b)
+            for (std::size_t i = starts[b]; i < starts[b + 1]; ++i)
+                for (const std::uint32_t v : s.faces[order[i]]) {
+                    if (owner[v] == nobody) owner[v] = std::uint32_t(b);
+                    else if (owner[v] != b) held[v] = 1;
+                }
+        s.outside = held;
+        if (pass > 0) // faces left out of this pass hold their vertices too
+            for (std::size_t f = 0; f < nf; ++f)
+                if (s.face_alive[f] && !active[f])
+                    for (const std::uint32_t v : s.faces[f]) s.outside[v] = 1;
+        if (pass == 0) {
+            // The planes of the original faces around the vertices blocks share, in face order.
+            for (std::uint32_t v = 0; v < nv; ++v)
+                if (held[v]) s.slot[v] = std::uint32_t(s.stored.size()), s.stored.push_back(PlaneSums{});
+            for (std::size_t f = 0; f < nf; ++f) {
+                const Face& t = s.faces[f];
+                if (!held[t[0]] && !held[t[1]] && !held[t[2]]) continue;
+                const Plane plane = face_plane(s.position, t);
+                for (const std::uint32_t v : t)
+                    if (held[v]) plane.add_to(s.stored[s.slot[v]]);
+            }
+            for (PlaneSums& p : s.stored) unit_normal(p.reference);
+        }
+        std::vector<std::vector<PlaneSums>> kept(blocks);
+        tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+            Block& mine = workspace.local();
+            mine.load(order.data() + starts[b], starts[b + 1] - starts[b]);
+            mine.run(pass == 0, kept[b]);
+        });
+        for (const auto& list : kept) // the first pass's vertices that only one block had
+            for (const PlaneSums& p : list) s.slot[p.vertex] = std::uint32_t(s.stored.size()), s.stored.push_back(p);
+        if (pass + 1 == passes) break;
+        const auto touches = [&](std::size_t f) {
+            return s.face_alive[f] && (held[s.faces[f][0]] || held[s.faces[f][1]] || held[s.faces[f][2]]);
+        };
+        for (int ring = 0; ring < 2; ++ring) { // held vertices, then their neighbours too
+            std::vector<char> near = held;
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t f = range.begin(); f < range.end(); ++f)
+                    if (touches(f))
+                        for (const std::uint32_t v : s.faces[f]) std::atomic_ref<char>(near[v]).store(1, std::memory_order_relaxed);
+            });
+            held.swap(near);
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t f = range.begin(); f < range.end(); ++f) active[f] = touches(f);
+        });
+    }
+
+    std::size_t kept = 0;
+    double reached = 0;
+    for (std::size_t f = 0; f < nf; ++f)
+        if (s.face_alive[f]) mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
+    mesh.triangles.resize(kept);
     remove_unused_vertices(mesh);
+    // A kept normal can end up facing away from the larger faces now around its vertex: there it
+    // becomes theirs, as viewers shade by it.
+    if (!mesh.normals.empty()) agree_normals_with_faces(mesh);
 
     report.triangles_after = mesh.triangles.size();
-    report.result_error = double(result_error) * scale;
+    report.result_error = reached;
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
 }

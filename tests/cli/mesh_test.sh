@@ -15,6 +15,11 @@ check "sphere PLY: closed, within a cell, exact colour" python3 "$here/ply_check
 check "summary names the grid" contains "$dir/summary.txt" "40 x 40 x 40 cells"
 check "summary names the iso" contains "$dir/summary.txt" "(auto) points per cell"
 check "summary gives the origin" contains "$dir/summary.txt" "origin         499994.99"
+check "simplified by default, to half a cell" contains "$dir/summary.txt" "^simplify       [0-9]* to [0-9]* triangles, bound [0-9.e-]* (0.5cell)"
+"$lasmesh" "$dir/s.las" -o "$dir/s0.ply" --grid 40 --surface closed --simplify 0 2> "$dir/summary0.txt"
+check "--simplify 0: off" contains "$dir/summary0.txt" "^simplify       off"
+check "--simplify 0: more triangles" test "$(sed -n 's/^element face //p' "$dir/s0.ply" | head -1)" -gt "$(sed -n 's/^element face //p' "$dir/s.ply" | head -1)"
+check "--simplify 0 sphere PLY: closed, within a cell, exact colour" python3 "$here/ply_check.py" "$dir/s0.ply" "$lo" "$hi" 0.25 12,200,99
 
 "$lasmesh" "$dir/s.las" -o "$dir/a.ply" --grid 40 --surface closed --ascii 2> /dev/null
 ply_faces() { sed -n 's/^element face //p' "$1" | head -1; }
