@@ -242,7 +242,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + shortest(r.iso));
     r.pieces = remove_small_pieces(mesh, o.min_piece);
     SimplifyOptions simplify;
-    simplify.error = o.simplify.in_cells ? o.simplify.error * grid.spec.cell_size : o.simplify.error;
+    simplify.error = o.simplify.in_cells ? o.simplify.error * r.grid.cell_size : o.simplify.error;
     simplify.lock_border = o.simplify.lock_border;
     r.simplify = simplify_mesh(mesh, simplify);
     if (simplify.error > 0)

@@ -16,6 +16,10 @@ check "summary names the grid" contains "$dir/summary.txt" "40 x 40 x 40 cells"
 check "summary names the iso" contains "$dir/summary.txt" "(auto) points per cell"
 check "summary gives the origin" contains "$dir/summary.txt" "origin         499994.99"
 check "simplified by default, to half a cell" contains "$dir/summary.txt" "^simplify       [0-9]* to [0-9]* triangles, bound [0-9.e-]* (0.5cell)"
+"$lasmesh" "$dir/s.las" -o "$dir/sr.ply" --grid 40 --report "$dir/sr.json" 2> /dev/null
+check "the default bound is half of this grid's cell, in file units" python3 -c "
+import json, sys; r = json.load(open(sys.argv[1])); bound, cell = r['simplify']['error'], r['grid']['cell_size']
+assert abs(bound - 0.5 * cell) < 1e-9 * cell, (bound, cell)" "$dir/sr.json"
 "$lasmesh" "$dir/s.las" -o "$dir/s0.ply" --grid 40 --surface closed --simplify 0 2> "$dir/summary0.txt"
 check "--simplify 0: off" contains "$dir/summary0.txt" "^simplify       off"
 check "--simplify 0: more triangles" test "$(sed -n 's/^element face //p' "$dir/s0.ply" | head -1)" -gt "$(sed -n 's/^element face //p' "$dir/s.ply" | head -1)"
