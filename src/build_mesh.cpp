@@ -203,19 +203,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
     DensityGrid grid = accumulate_density(reader, device, accumulate);
     if (o.auto_grid) {
-        // The header only guessed the surface's area: where most occupied cells hold fewer
-        // points than a surface needs, merge cells until they do.
-        int merged = 0;
-        std::uint64_t median = median_occupied_count(grid);
-        while (median > 0 && median < auto_grid_min_median &&
-               std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells) {
-            grid = coarsen_grid(grid);
-            median = median_occupied_count(grid);
-            ++merged;
-        }
-        if (merged > 0)
-            r.grid_reason += "; then " + std::to_string(1 << merged) + " times coarser: the occupied cells held a median of fewer than " +
-                             std::to_string(auto_grid_min_median) + " points, now " + std::to_string(median);
+        // The header only guessed the surface's area; the counts tell.
+        if (const std::string coarsened = coarsen_while_sparse(grid); !coarsened.empty()) r.grid_reason += "; " + coarsened;
     }
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;

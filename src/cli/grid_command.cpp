@@ -30,7 +30,9 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     }
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();
-    const DensityGrid grid = accumulate_density(reader, device, accumulate);
+    DensityGrid grid = accumulate_density(reader, device, accumulate);
+    if (grid_is_auto(options.grid))
+        if (const std::string coarsened = coarsen_while_sparse(grid); !coarsened.empty()) grid_reason += "; " + coarsened;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     std::uint64_t occupied = 0, fullest = 0;

@@ -1,4 +1,4 @@
-// coarsen_grid and median_occupied_count: --grid auto's second look, at the accumulated counts.
+// coarsen_grid, median_occupied_count and coarsen_while_sparse: --grid auto's second look, at the accumulated counts.
 // Merging 2 x 2 x 2 cells keeps every sum exact (counts and colours add; position sums move to
 // the larger cell's start), so a coarsened grid is the grid that accumulating at twice the cell
 // would give, without reading the input again.
@@ -6,6 +6,7 @@
 #include "lasmesh/grid/density_grid.hpp"
 
 #include <algorithm>
+#include <string>
 
 namespace lasmesh {
 
@@ -67,6 +68,20 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
         }
     }
     return coarse;
+}
+
+std::string coarsen_while_sparse(DensityGrid& grid) {
+    int merged = 0;
+    std::uint64_t median = median_occupied_count(grid);
+    while (median > 0 && median < auto_grid_min_median &&
+           std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells) {
+        grid = coarsen_grid(grid);
+        median = median_occupied_count(grid);
+        ++merged;
+    }
+    if (merged == 0) return {};
+    return "then " + std::to_string(1 << merged) + " times coarser: the occupied cells held a median of fewer than " +
+           std::to_string(auto_grid_min_median) + " points, now " + std::to_string(median);
 }
 
 } // namespace lasmesh

@@ -38,6 +38,11 @@ constexpr std::uint64_t auto_grid_min_median = 4;
 // The median point count of the cells that hold a point (0 when none does).
 std::uint64_t median_occupied_count(const DensityGrid& grid);
 
+// --grid auto's second look: coarsens `grid` while the median count of its occupied cells is
+// below auto_grid_min_median and its longest axis has more than auto_grid_min_cells. Returns
+// what was done, for the summary ("" when nothing).
+std::string coarsen_while_sparse(DensityGrid& grid);
+
 // The grid with cells twice as large: each cell the exact sums of the 2 x 2 x 2 cells it covers
 // (the last cell along an odd axis covers one and ends where the fine grid ended). Otherwise
 // the grid accumulating at that cell size gives.
