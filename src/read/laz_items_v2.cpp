@@ -2,6 +2,7 @@
 #include "read/laz_items_v2.hpp"
 
 #include "lasmesh/byte_order.hpp"
+#include "read/laz_gps_time.hpp"
 #include "read/laz_vlr.hpp"
 
 #include <cstring>
@@ -24,19 +25,10 @@ inline std::uint8_t clamp_u8(std::int32_t v) { return static_cast<std::uint8_t>(
 // GPS time multipliers (Isenburg 2013, 3.3.2): codes 1..499 multiply the last difference,
 // 500 is the largest, 501..510 are -1..-10, 511 unchanged, 512 a full new time, 513..515
 // switch to another of the four sequences.
-constexpr std::int32_t gps_multi = 500;
-constexpr std::int32_t gps_multi_minus = -10;
 constexpr std::int32_t gps_multi_unchanged = gps_multi - gps_multi_minus + 1; // 511
 constexpr std::int32_t gps_multi_code_full = gps_multi - gps_multi_minus + 2; // 512
 constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 6;     // 516
 
-// The GPS time's bits plus a difference, wrapping (corrupt input must not overflow a signed type).
-inline std::int64_t add64(std::int64_t a, std::int64_t b) {
-    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
-}
-inline std::int32_t mul32(std::int32_t a, std::int32_t b) {
-    return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
-}
 
 } // namespace
 
@@ -143,28 +135,9 @@ void GpsTime11Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
         }
         const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(multi_));
         if (multi < gps_multi_unchanged) {
-            // The difference predicted as a multiple of the last one, with a context per kind of
-            // multiplier; extreme multipliers count towards replacing the reference difference.
-            const std::int32_t last_diff = last_diff_[last_];
-            std::int32_t prediction, context;
-            bool extreme = false;
-            if (multi == 0) {
-                prediction = 0, context = 7, extreme = true;
-            } else if (multi == 1) {
-                prediction = last_diff, context = 1;
-            } else if (multi < gps_multi) {
-                prediction = mul32(multi, last_diff), context = multi < 10 ? 2 : 3;
-            } else if (multi == gps_multi) {
-                prediction = mul32(gps_multi, last_diff), context = 4, extreme = true;
-            } else {
-                const std::int32_t negative = gps_multi - multi; // -1 .. -10
-                if (negative > gps_multi_minus) {
-                    prediction = mul32(negative, last_diff), context = 5;
-                } else {
-                    prediction = mul32(gps_multi_minus, last_diff), context = 6, extreme = true;
-                }
-            }
-            const std::int32_t diff = ic_time_.decode(dec, prediction, static_cast<std::uint32_t>(context));
+            // Extreme multipliers count towards replacing the reference difference.
+            const auto [prediction, context, extreme] = predict_gps_difference(multi, last_diff_[last_]);
+            const std::int32_t diff = ic_time_.decode(dec, prediction, context);
             last_time_[last_] = add64(last_time_[last_], diff);
             if (multi == 1) {
                 extreme_counter_[last_] = 0;

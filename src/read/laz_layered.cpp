@@ -6,6 +6,7 @@
 #include "lasmesh/byte_order.hpp"
 #include "read/arithmetic_decoder.hpp"
 #include "read/laz_chunks.hpp"
+#include "read/laz_gps_time.hpp"
 #include "read/laz_items_v2.hpp"
 
 #include <array>
@@ -37,21 +38,9 @@ inline std::uint32_t return_level_8ctx(std::uint32_t n, std::uint32_t r) {
 
 // GPS time codes in v3: as in GPSTIME11 v2 but without an "unchanged" code (the changed-values
 // symbol says whether the time changed): 511 = full time, 512..514 = switch sequence.
-constexpr std::int32_t gps_multi = 500;
-constexpr std::int32_t gps_multi_minus = -10;
 constexpr std::int32_t gps_multi_code_full = gps_multi - gps_multi_minus + 1; // 511
 constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 5;     // 515
 
-inline std::int32_t add32(std::int32_t a, std::int32_t b) {
-    return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) + static_cast<std::uint32_t>(b));
-}
-// The GPS time's bits plus a difference, wrapping (corrupt input must not overflow a signed type).
-inline std::int64_t add64(std::int64_t a, std::int64_t b) {
-    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
-}
-inline std::int32_t mul32(std::int32_t a, std::int32_t b) {
-    return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) * static_cast<std::uint32_t>(b));
-}
 
 struct Layer {
     std::span<const std::byte> bytes;
@@ -183,28 +172,9 @@ void Point14Decoder::decode_gps(Point14Context& c) {
         }
         const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(c.gps_multi_model));
         if (multi < gps_multi_code_full) {
-            // The difference predicted as a multiple of the last one, with a context per kind of
-            // multiplier; extreme multipliers count towards replacing the reference difference.
-            const std::int32_t last_diff = c.gps_diffs[l];
-            std::int32_t prediction, context;
-            bool extreme = false;
-            if (multi == 0) {
-                prediction = 0, context = 7, extreme = true;
-            } else if (multi == 1) {
-                prediction = last_diff, context = 1;
-            } else if (multi < gps_multi) {
-                prediction = mul32(multi, last_diff), context = multi < 10 ? 2 : 3;
-            } else if (multi == gps_multi) {
-                prediction = mul32(gps_multi, last_diff), context = 4, extreme = true;
-            } else {
-                const std::int32_t negative = gps_multi - multi; // -1 .. -10
-                if (negative > gps_multi_minus) {
-                    prediction = mul32(negative, last_diff), context = 5;
-                } else {
-                    prediction = mul32(gps_multi_minus, last_diff), context = 6, extreme = true;
-                }
-            }
-            const std::int32_t diff = c.ic_gps.decode(dec, prediction, static_cast<std::uint32_t>(context));
+            // Extreme multipliers count towards replacing the reference difference.
+            const auto [prediction, context, extreme] = predict_gps_difference(multi, c.gps_diffs[l]);
+            const std::int32_t diff = c.ic_gps.decode(dec, prediction, context);
             c.gps_times[l] = add64(c.gps_times[l], diff);
             if (multi == 1) {
                 c.gps_extreme[l] = 0;
