@@ -7,6 +7,7 @@
 #include "brick_pool.hpp"
 #include "host_memory.hpp"
 #include "kernel_sources.hpp"
+#include "memory_guard.hpp"
 #include "lasmesh/error.hpp"
 #include "opencl_device.hpp"
 
@@ -21,108 +22,10 @@ namespace {
 
 // Measured on PoCL (docs/benchmarks.md): 4-16 MiB slices stay in cache and beat 64 MiB ones.
 constexpr std::uint64_t default_slice_bytes = 16ull << 20;
-constexpr std::size_t slots = 2; // one slice being read while the device works on the other
+constexpr std::size_t slots = slice_buffers;
 // Records one work-item sums before it flushes: long enough to merge the runs of a scan in
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
-
-std::string mib(std::uint64_t bytes) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.1f MiB", bytes / 1048576.0);
-    return text;
-}
-
-std::string dims_text(const GridSpec& g) {
-    return std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
-}
-
-std::uint64_t cell_words(bool color) { return color ? 8 : 4; }
-
-std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid) {
-    std::array<std::uint32_t, 3> b{};
-    for (int a = 0; a < 3; ++a)
-        b[a] = static_cast<std::uint32_t>((grid.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
-    return b;
-}
-
-std::uint64_t brick_count(const GridSpec& grid) {
-    const auto b = brick_dims(grid);
-    return std::uint64_t{b[0]} * b[1] * b[2];
-}
-
-struct Limits {
-    std::uint64_t global_memory, max_alloc, max_memory, in_use;
-};
-
-// Empty when `need` fits; otherwise what it exceeds.
-std::string exceeded(const MemoryNeed& need, const Limits& limits, const std::string& what) {
-    if (need.largest_buffer > limits.max_alloc)
-        return what + " needs " + mib(need.largest_buffer) + ", more than the device's largest allocation (" +
-               mib(limits.max_alloc) + ")";
-    if (need.device_bytes > limits.global_memory)
-        return "it needs " + mib(need.device_bytes) + " of device memory, more than the device has (" +
-               mib(limits.global_memory) + ")";
-    if (limits.max_memory && need.device_bytes + need.host_bytes + limits.in_use > limits.max_memory)
-        return "it needs " + mib(need.device_bytes + need.host_bytes) + " on host and device together" +
-               (limits.in_use ? " besides the " + mib(limits.in_use) + " in use before reading" : std::string()) +
-               ", more than --max-memory (" + mib(limits.max_memory) + ")";
-    return {};
-}
-
-// The largest N along the longest axis for which `fits(grid)` holds (memory grows with N).
-template <class Fits>
-std::uint32_t largest_fitting_grid(const LasHeader& header, const AccumulateOptions& options, std::uint32_t upper, Fits fits) {
-    std::uint32_t lo = 0, hi = upper;
-    while (lo < hi) {
-        const std::uint32_t mid = lo + (hi - lo + 1) / 2;
-        AccumulateOptions trial = options;
-        trial.grid = GridRequest{GridRequest::Kind::longest_axis, {mid, 0, 0}, 0};
-        if (fits(grid_for(header, trial)))
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    return lo;
-}
-
-std::uint32_t longest_dim(const GridSpec& g) { return std::max({g.dims[0], g.dims[1], g.dims[2]}); }
-
-void check_index_memory(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
-                        std::uint64_t slice_bytes, const Limits& limits) {
-    const std::string problem = exceeded(memory_need(grid, slice_bytes), limits, "the brick index");
-    if (problem.empty()) return;
-    const std::uint32_t fit = largest_fitting_grid(header, options, longest_dim(grid), [&](const GridSpec& g) {
-        return exceeded(memory_need(g, slice_bytes), limits, "").empty();
-    });
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " (" + std::to_string(grid.cell_count()) +
-                                      " cells) does not fit: " + problem +
-                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : ""));
-}
-
-// The pool of bricks outgrew a limit after `points_read` of the header's points: stop, and
-// suggest a grid whose pool would fit, assuming the surface's bricks fall with the square of the
-// grid.
-[[noreturn]] void pool_too_large(const LasHeader& header, const GridSpec& grid, const std::string& problem,
-                                 std::uint64_t bricks_used, std::uint64_t points_read, std::uint64_t available_bytes,
-                                 double cost_per_brick_byte) {
-    // A scan in acquisition order meets new bricks all along; a random order meets most of them
-    // early. Between the two: at most twice the bricks seen so far.
-    const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
-    const double growth = std::min(2.0, 1 / std::min(1.0, seen));
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * cost_per_brick_byte;
-    const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
-    const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
-                                      " of " + std::to_string(header.point_count) + " points its surface fills " +
-                                      std::to_string(bricks_used) + " bricks and " + problem +
-                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
-                                      " (nothing was written)");
-}
-
-// The pool's first chunk, counted before reading (bricks with colour, the larger kind).
-std::uint64_t first_chunk_bytes(const GridSpec& grid) {
-    return std::min<std::uint64_t>(1024, brick_count(grid)) * DensityGrid::brick_cells * cell_words(true) * 8;
-}
 
 // Moves brick s of `cells` to brick place[s], for every s: cycle by cycle, in place, so sorting
 // the bricks takes no second copy of the grid.
@@ -138,49 +41,6 @@ void put_bricks_in_order(std::vector<CellSums>& cells, std::vector<std::uint64_t
 }
 
 } // namespace
-
-std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 8; }
-
-std::uint64_t DensityGrid::occupied_cells() const {
-    return static_cast<std::uint64_t>(std::count_if(cells.begin(), cells.end(), [](const CellSums& c) { return c.count > 0; }));
-}
-
-Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
-    const std::uint64_t n = cell.count;
-    if (n == 0 || !has_color()) return {0, 0, 0};
-    // Rounded integer division; 128-bit so no count or sum can overflow.
-    const unsigned __int128 divisor = static_cast<unsigned __int128>(n) * (color_is_16bit() ? 257 : 1);
-    auto mean = [&](std::uint64_t sum) {
-        return static_cast<std::uint8_t>((2 * static_cast<unsigned __int128>(sum) + divisor) / (2 * divisor));
-    };
-    return {mean(cell.color[0]), mean(cell.color[1]), mean(cell.color[2])};
-}
-
-Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
-    Vec3 p{};
-    for (int a = 0; a < 3; ++a) {
-        const double raw = static_cast<double>(axes[a].starts[cell[a]]) +
-                           static_cast<double>(sums.position[a]) / static_cast<double>(std::max<std::uint64_t>(1, sums.count));
-        p[a] = raw * scale[a] + offset[a] - spec.origin[a];
-    }
-    return p;
-}
-
-MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {
-    MemoryNeed need;
-    const std::uint64_t index_bytes = brick_count(grid) * 4;
-    need.largest_buffer = index_bytes;
-    // The index, the slices, the lists of points deferred and of bricks new in a slice (at most
-    // one per record of 20 bytes or more), and the pool's first chunk (up to 1024 bricks).
-    need.device_bytes = index_bytes + slots * slice_bytes + 2 * (slice_bytes / 4) + first_chunk_bytes(grid);
-    // The index read back; the slices are mapped device memory.
-    need.host_bytes = index_bytes;
-    return need;
-}
-
-GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options) {
-    return make_grid_spec(options.bounds.value_or(Bounds{header.min, header.max}), options.grid);
-}
 
 DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     const LasHeader& header = reader.header();
@@ -200,7 +60,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     const std::size_t slice_records = static_cast<std::size_t>(
         std::clamp<std::uint64_t>(std::min<std::uint64_t>(slice_limit / length, reader.records_left()), 1, 1u << 30));
     const std::size_t slice_bytes = slice_records * length;
-    const Limits limits{dev.info.global_memory, max_alloc, options.max_memory, options.max_memory ? options.memory_in_use : 0};
+    const MemoryLimits limits{dev.info.global_memory, max_alloc, options.max_memory, options.max_memory ? options.memory_in_use : 0};
     check_index_memory(header, options, out.spec, slice_bytes, limits);
     for (int a = 0; a < 3; ++a) out.axes[a] = axis_cells(out.spec, a, header.scale[a], header.offset[a]);
 

@@ -1,0 +1,41 @@
+// DensityGrid's cell arithmetic (occupancy, mean colour, centroid) and the grid a header asks for.
+#include "lasmesh/grid/density_grid.hpp"
+
+#include "memory_guard.hpp"
+
+#include <algorithm>
+
+namespace lasmesh {
+
+std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 8; }
+
+std::uint64_t DensityGrid::occupied_cells() const {
+    return static_cast<std::uint64_t>(std::count_if(cells.begin(), cells.end(), [](const CellSums& c) { return c.count > 0; }));
+}
+
+Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
+    const std::uint64_t n = cell.count;
+    if (n == 0 || !has_color()) return {0, 0, 0};
+    // Rounded integer division; 128-bit so no count or sum can overflow.
+    const unsigned __int128 divisor = static_cast<unsigned __int128>(n) * (color_is_16bit() ? 257 : 1);
+    auto mean = [&](std::uint64_t sum) {
+        return static_cast<std::uint8_t>((2 * static_cast<unsigned __int128>(sum) + divisor) / (2 * divisor));
+    };
+    return {mean(cell.color[0]), mean(cell.color[1]), mean(cell.color[2])};
+}
+
+Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
+    Vec3 p{};
+    for (int a = 0; a < 3; ++a) {
+        const double raw = static_cast<double>(axes[a].starts[cell[a]]) +
+                           static_cast<double>(sums.position[a]) / static_cast<double>(std::max<std::uint64_t>(1, sums.count));
+        p[a] = raw * scale[a] + offset[a] - spec.origin[a];
+    }
+    return p;
+}
+
+GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options) {
+    return make_grid_spec(options.bounds.value_or(Bounds{header.min, header.max}), options.grid);
+}
+
+} // namespace lasmesh
