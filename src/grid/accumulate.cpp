@@ -1,7 +1,7 @@
 // accumulate_density: streams raw records to the device in double-buffered slices and runs
 // kernels/accumulate.cl over each; the host reads records straight into the device's slice
-// buffers (mapped, so a device that shares host memory copies nothing) and keeps the pool of
-// bricks large enough for every slice before the slice's points are added.
+// buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool
+// of bricks when a slice's new bricks would not fit, and reads the pool back in brick order.
 #include "lasmesh/grid/density_grid.hpp"
 
 #include "brick_pool.hpp"
@@ -67,8 +67,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     const std::uint64_t bricks = brick_count(out.spec);
     const std::uint64_t brick_bytes = brick_device_bytes(color);
     const MemoryNeed fixed = memory_need(out.spec, slice_bytes);
-    std::vector<std::uint32_t> slot_of_brick;
-    std::vector<std::byte> pool_copy_block;
     std::uint64_t used = 0;
     const PoolLayout layout = pool_layout(std::max<std::uint64_t>(1, max_alloc / brick_bytes));
     std::vector<cl::Buffer> chunks;
