@@ -97,7 +97,8 @@ int main(int argc, char** argv) {
         std::cerr << "lasmesh: " << e.what() << '\n';
         return e.exit_code();
     } catch (const std::bad_alloc&) {
-        std::cerr << "lasmesh: out of memory\n";
+        std::cerr << "lasmesh: out of memory: the system refused more (a smaller --grid needs less; with --max-memory "
+                     "a run is refused before it starts, with a --grid that fits)\n";
         return exit_internal_error;
     } catch (const std::exception& e) {
         std::cerr << "lasmesh: internal error: " << e.what() << '\n';

@@ -70,8 +70,17 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     std::uint64_t used = 0;
     const PoolLayout layout = pool_layout(std::max<std::uint64_t>(1, max_alloc / brick_bytes));
     std::vector<cl::Buffer> chunks;
-    std::vector<HostMemory> chunk_memory; // a CPU device's chunks, in host memory we allocate
+    // On a CPU device the large buffers are host memory we map ourselves, zeroed and in large
+    // pages: a refused allocation is then std::bad_alloc here (PoCL aborts when its own lazy
+    // allocation fails), and nothing needs clearing.
     const bool host_device = dev.info.type == "CPU";
+    std::vector<HostMemory> chunk_memory; // the pool's chunks
+    HostMemory index_memory, deferred_memory, new_bricks_memory;
+    auto zeroed_buffer = [&](cl::Context& ctx, HostMemory& memory, std::uint64_t bytes) {
+        if (!host_device) return cl::Buffer(ctx, CL_MEM_READ_WRITE, bytes);
+        memory = HostMemory(bytes);
+        return cl::Buffer(ctx, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, memory.data());
+    };
 
     try {
         cl::Context& ctx = dev.context;
@@ -83,12 +92,12 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
 
-        cl::Buffer index(ctx, CL_MEM_READ_WRITE, bricks * 4);
-        queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
+        cl::Buffer index = zeroed_buffer(ctx, index_memory, bricks * 4);
+        if (!host_device) queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
         // The points of a slice whose bricks were new, and the bricks they claimed: each at most
         // one per record.
-        cl::Buffer deferred(ctx, CL_MEM_READ_WRITE, slice_records * 4);
-        cl::Buffer new_bricks(ctx, CL_MEM_READ_WRITE, slice_records * 4);
+        cl::Buffer deferred = zeroed_buffer(ctx, deferred_memory, slice_records * 4);
+        cl::Buffer new_bricks = zeroed_buffer(ctx, new_bricks_memory, slice_records * 4);
         cl::Buffer deferred_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint)), new_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
         queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
         queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
@@ -171,12 +180,8 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                     pool_too_large(header, out.spec, problem, used + fresh, out.points_read, available, host_device ? 2 : 4);
                 }
                 const std::uint64_t chunk_bytes = layout.chunk_bricks(c) * brick_bytes;
-                if (host_device) {
-                    chunk_memory.emplace_back(chunk_bytes);
-                    chunks.emplace_back(ctx, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, chunk_bytes, chunk_memory.back().data());
-                } else {
-                    chunks.emplace_back(ctx, CL_MEM_READ_WRITE, chunk_bytes);
-                }
+                chunk_memory.emplace_back();
+                chunks.push_back(zeroed_buffer(ctx, chunk_memory.back(), chunk_bytes));
                 add.setArg(pool_arg_add + static_cast<int>(c), chunks.back());
                 add_listed.setArg(pool_arg_listed + static_cast<int>(c), chunks.back());
             }
@@ -277,7 +282,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             for (std::uint64_t first = 0; first < in_chunk; first += block_bricks) {
                 const std::uint64_t n = std::min(block_bricks, in_chunk - first);
                 queue.enqueueReadBuffer(chunks[c], CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
-                if (c < chunk_memory.size()) chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
+                chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
                 for (const cl_ulong* src = block.data(); src < block.data() + n * DensityGrid::brick_cells * words; src += words) {
                     CellSums cell;
                     cell.count = src[0];
@@ -287,7 +292,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 }
             }
             chunks[c] = cl::Buffer();
-            if (c < chunk_memory.size()) chunk_memory[c] = HostMemory();
+            chunk_memory[c] = HostMemory();
         }
         put_bricks_in_order(out.cells, std::move(position_of_slot));
     } catch (const cl::Error& e) {

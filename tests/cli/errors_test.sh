@@ -207,6 +207,9 @@ else
 check "info --scan of 65,535-byte records in 1.5 GB (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0
 (ulimit -v 1500000; "$lasmesh" info --scan --chunk-points 1073741824 ok.las > /dev/null 2> err.txt); rc=$?
 check "info --scan --chunk-points 2^30 in 1.5 GB (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0
+# A grid the system has no memory for: exit 5, one line with what to change, nothing written.
+expect "grid beyond the process's memory" 5 'out of memory: the system refused more (a smaller --grid' \
+  "ulimit -v 1000000; $L big.las --grid 3000"
 patch ok.las huge-count.las 107 I 0xFFFFFFFF
 expect_exactly "compare --samples 2^34 with a lying count" 2 'huge-count.las: ends at byte 34312 after 1000 whole point records' \
   "ulimit -v 3000000; $L compare m.ply huge-count.las --samples 17179869184"
