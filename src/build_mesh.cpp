@@ -17,14 +17,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <memory>
-#include <sstream>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -79,13 +76,6 @@ void write_output(const Mesh& mesh, const OutputRequest& output, const std::stri
 std::string mesh_name(const std::string& input) {
     const std::string stem = std::filesystem::path(input).stem().string();
     return input == "-" || stem.empty() ? "lasmesh" : stem;
-}
-
-// The most points any cell holds.
-std::uint64_t fullest(const DensityGrid& grid) {
-    std::uint64_t most = 0;
-    for (const CellSums& cell : grid.cells) most = std::max(most, cell.count);
-    return most;
 }
 
 // Refuses, before extracting, a surface whose extraction and outputs would take the run past
@@ -208,7 +198,12 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     }
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
-    r.occupied_cells = grid.occupied_cells(), r.occupied_bricks = grid.brick_keys.size();
+    std::uint64_t fullest_cell = 0; // for the message should the mesh come out empty
+    for (const CellSums& cell : grid.cells) {
+        r.occupied_cells += cell.count > 0;
+        fullest_cell = std::max(fullest_cell, cell.count);
+    }
+    r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
     watch.stage_ended(BuildStage::read_accumulate, r);
@@ -223,7 +218,6 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     if (o.max_memory) check_extraction_memory(grid, r.iso, o, r.input, accumulate.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
-    const std::uint64_t fullest_cell = fullest(grid); // for the message if the mesh comes out empty
     // The sheet releases the grid's cells as soon as it no longer reads them.
     Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso) : extract_isosurface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();

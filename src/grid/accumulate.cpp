@@ -76,7 +76,8 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     const bool host_device = dev.info.type == "CPU";
     std::vector<HostMemory> chunk_memory; // the pool's chunks
     HostMemory index_memory, deferred_memory, new_bricks_memory;
-    auto zeroed_buffer = [&](cl::Context& ctx, HostMemory& memory, std::uint64_t bytes) {
+    // A device buffer, or on a CPU device one over host memory we map into `memory` (zeroed).
+    auto large_buffer = [&](cl::Context& ctx, HostMemory& memory, std::uint64_t bytes) {
         if (!host_device) return cl::Buffer(ctx, CL_MEM_READ_WRITE, bytes);
         memory = HostMemory(bytes);
         return cl::Buffer(ctx, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, memory.data());
@@ -92,12 +93,12 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
 
-        cl::Buffer index = zeroed_buffer(ctx, index_memory, bricks * 4);
+        cl::Buffer index = large_buffer(ctx, index_memory, bricks * 4);
         if (!host_device) queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
         // The points of a slice whose bricks were new, and the bricks they claimed: each at most
         // one per record.
-        cl::Buffer deferred = zeroed_buffer(ctx, deferred_memory, slice_records * 4);
-        cl::Buffer new_bricks = zeroed_buffer(ctx, new_bricks_memory, slice_records * 4);
+        cl::Buffer deferred = large_buffer(ctx, deferred_memory, slice_records * 4);
+        cl::Buffer new_bricks = large_buffer(ctx, new_bricks_memory, slice_records * 4);
         cl::Buffer deferred_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint)), new_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
         queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
         queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
@@ -181,7 +182,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 }
                 const std::uint64_t chunk_bytes = layout.chunk_bricks(c) * brick_bytes;
                 chunk_memory.emplace_back();
-                chunks.push_back(zeroed_buffer(ctx, chunk_memory.back(), chunk_bytes));
+                chunks.push_back(large_buffer(ctx, chunk_memory.back(), chunk_bytes));
                 add.setArg(pool_arg_add + static_cast<int>(c), chunks.back());
                 add_listed.setArg(pool_arg_listed + static_cast<int>(c), chunks.back());
             }

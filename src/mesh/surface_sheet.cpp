@@ -8,10 +8,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <functional>
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <functional>
 
 namespace lasmesh {
 
@@ -70,18 +70,10 @@ struct Planes {
     std::vector<Vec> centroid; // relative to the grid origin
     std::vector<Vec> normal;
     std::vector<std::uint64_t> count;
-
     std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const DensityGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
-        // Sized once: growing by doubling would hold old and new arrays at the peak.
-        const auto planes = static_cast<std::size_t>(std::count_if(
-            g.cells.begin(), g.cells.end(), [iso](const CellSums& c) { return static_cast<double>(c.count) > iso; }));
-        cell.reserve(planes);
-        centroid.reserve(planes);
-        count.reserve(planes);
-        if (g.has_color()) color.reserve(planes);
         for (std::uint64_t r = 0; r < g.cells.size(); ++r) {
             if (!(static_cast<double>(g.cells[r].count) > iso)) continue;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
@@ -309,10 +301,6 @@ struct SheetField {
         }
     }
 };
-
-} // namespace
-
-namespace {
 
 // `release`, when given, is called once the grid's cells are no longer read.
 Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& release) {
