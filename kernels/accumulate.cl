@@ -4,7 +4,10 @@
 // Cells are decided by comparing the raw 32-bit LAS integers with cell start values the host
 // worked out once per axis (lasmesh::axis_cells), so every device agrees, whatever its floating
 // point. All sums are exact 64-bit integers, so the result does not depend on the order in which
-// points arrive, the slice size or the device.
+// points arrive, the slice size or the device: the pool keeps their low 32 bits, and the rare add
+// that carries into the high bits (or brings high bits of its own) appends them to a list, the
+// carries, that the host adds back (32-bit words halve the pool; a carry needs 2^32 added to one
+// word, so there are few).
 //
 // One pass over each slice, and more only where a slice meets bricks not yet in the pool, so no
 // work-item ever waits for another (a spin lock on first touch can hang a CPU device that runs a
@@ -25,8 +28,9 @@
 // Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, and
 // RGB_OFFSET=n when the point format has colour (byte offset of red).
 //
-// Cell record, 64-bit words: count, sum x, sum y, sum z (raw LAS units from the cell's start),
-// then with colour the sums of red, green, blue and one unused word (64 bytes: one cache line).
+// Cell record, 32-bit words (the low bits of each sum): count, sum x, sum y, sum z (raw LAS units
+// from the cell's start), then with colour the sums of red, green, blue and one unused word
+// (32 bytes: two cells a cache line).
 
 #define B (1 << BRICK_BITS)
 #define PENDING 0xFFFFFFFFu
@@ -36,21 +40,34 @@
 #define CELL_WORDS 4
 #endif
 
-#ifdef cl_khr_int64_base_atomics
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-typedef volatile global ulong* sum_ptr;
-void add_sum(sum_ptr sum, ulong value) { atom_add(sum, value); }
-#else
-// Without 64-bit atomics each sum is a pair of 32-bit words, low first; whoever makes the low word
-// wrap carries one into the high word, so the total stays exact.
-typedef volatile global uint* sum_ptr;
-void add_sum(sum_ptr sum, ulong value) {
+// A 64-bit sum kept as a pair of 32-bit words, low first (the points outside the grid): whoever
+// makes the low word wrap carries one into the high word, so the total stays exact.
+void add_pair(volatile global uint* sum, ulong value) {
     const uint low = (uint)value;
     const uint old = atomic_add(sum, low);
     const uint high = (uint)(value >> 32) + (old > 0xFFFFFFFFu - low ? 1u : 0u);
     if (high) atomic_add(sum + 1, high);
 }
-#endif
+
+// Where the high bits of the cells' sums go: word `key` of the pool (slot * B^3 * CELL_WORDS +
+// cell * CELL_WORDS + word) gets `high` << 32. The host sized the list so it cannot fill up
+// between two of its reads, and checks that it did not.
+typedef struct {
+    global ulong* list; // pairs: key, high
+    volatile global uint* count;
+    uint capacity;
+} Carries;
+
+// Adds `value` to the 32-bit word `word` (the pool's word `key`), listing what goes past 32 bits.
+void add_word(volatile global uint* word, ulong key, ulong value, Carries carries) {
+    const uint low = (uint)value;
+    const uint old = atomic_add(word, low);
+    const ulong high = (value >> 32) + (old > 0xFFFFFFFFu - low ? 1u : 0u);
+    if (high) {
+        const uint at = atomic_inc(carries.count);
+        if (at < carries.capacity) carries.list[2 * at] = key, carries.list[2 * at + 1] = high;
+    }
+}
 
 uint load_u16(global const uchar* p) { return (uint)p[0] | ((uint)p[1] << 8); }
 
@@ -86,14 +103,14 @@ uint brick_of(int x, int y, int z, uint bricks_x, uint bricks_y) {
 
 kernel void mark_bricks(global const uchar* records, global const uint* listed, uint count, uint record_length,
                         GRID_ARGS, volatile global uint* brick_slot, global uint* new_bricks,
-                        volatile global uint* new_count) {
+                        volatile global uint* counters) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     global const uchar* record = records + (ulong)listed[i] * record_length;
     LOCATE(record, x, y, z, rx, ry, rz);
     const uint b = brick_of(x, y, z, bricks_x, bricks_y);
     // Read first: points of one new brick are usually listed together, and a plain read is cheap.
-    if (brick_slot[b] == 0 && atomic_cmpxchg(brick_slot + b, 0u, PENDING) == 0u) new_bricks[atomic_inc(new_count)] = b;
+    if (brick_slot[b] == 0 && atomic_cmpxchg(brick_slot + b, 0u, PENDING) == 0u) new_bricks[atomic_inc(counters + 1)] = b;
 }
 
 // Slot s + 1 in the index (0 means no brick); the host zeroed the pool's bricks s already.
@@ -103,13 +120,13 @@ kernel void assign_bricks(global const uint* new_bricks, uint count, uint first_
 }
 
 #define POOL_ARGS                                                                                      \
-    global ulong *pool0, global ulong *pool1, global ulong *pool2, global ulong *pool3, global ulong *pool4,  \
-        global ulong *pool5, global ulong *pool6, global ulong *pool7, global ulong *pool8, global ulong *pool9, \
-        global ulong *pool10, global ulong *pool11
+    global uint *pool0, global uint *pool1, global uint *pool2, global uint *pool3, global uint *pool4,  \
+        global uint *pool5, global uint *pool6, global uint *pool7, global uint *pool8, global uint *pool9, \
+        global uint *pool10, global uint *pool11
 #define POOL pool0, pool1, pool2, pool3, pool4, pool5, pool6, pool7, pool8, pool9, pool10, pool11
 
 // The first word of the brick in pool slot `slot` (see the chunk layout above).
-global ulong* brick_words(uint slot, POOL_ARGS) {
+global uint* brick_words(uint slot, POOL_ARGS) {
     const uint q = (slot >> FIRST_BITS) + 1;
     uint chunk, at;
     if (q < (2u << DOUBLINGS)) {
@@ -120,7 +137,7 @@ global ulong* brick_words(uint slot, POOL_ARGS) {
         chunk = DOUBLINGS + 1 + (rest >> (FIRST_BITS + DOUBLINGS));
         at = rest & ((1u << (FIRST_BITS + DOUBLINGS)) - 1);
     }
-    global ulong* base;
+    global uint* base;
     switch (chunk) {
     case 0: base = pool0; break;
     case 1: base = pool1; break;
@@ -138,30 +155,33 @@ global ulong* brick_words(uint slot, POOL_ARGS) {
     return base + (ulong)at * (B * B * B * CELL_WORDS);
 }
 
-// Adds a run's sums to its cell's record (words: count, x, y, z, then red, green, blue).
-void flush(global ulong* record, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b) {
+// Adds a run's sums to its cell's record, the pool's words key.. (count, x, y, z, then red,
+// green, blue).
+void flush(volatile global uint* record, ulong key, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b,
+           Carries carries) {
     if (n == 0) return;
-    add_sum((sum_ptr)record, n);
-    if (sx) add_sum((sum_ptr)(record + 1), sx);
-    if (sy) add_sum((sum_ptr)(record + 2), sy);
-    if (sz) add_sum((sum_ptr)(record + 3), sz);
+    add_word(record, key, n, carries);
+    if (sx) add_word(record + 1, key + 1, sx, carries);
+    if (sy) add_word(record + 2, key + 2, sy, carries);
+    if (sz) add_word(record + 3, key + 3, sz, carries);
 #ifdef RGB_OFFSET
-    if (r) add_sum((sum_ptr)(record + 4), r);
-    if (g) add_sum((sum_ptr)(record + 5), g);
-    if (b) add_sum((sum_ptr)(record + 6), b);
+    if (r) add_word(record + 4, key + 4, r, carries);
+    if (g) add_word(record + 5, key + 5, g, carries);
+    if (b) add_word(record + 6, key + 6, b, carries);
 #endif
 }
 
 // Adds records first..end-1 of the slice, or of the list when `listed` is not null. Points whose
 // brick has no slot yet are appended to `deferred` instead (only when reading the slice).
 void accumulate_run(global const uchar* records, global const uint* listed, uint first, uint end, uint record_length,
-                    GRID_ARGS, global const uint* brick_slot, POOL_ARGS, volatile global uint* stats,
+                    GRID_ARGS, global const uint* brick_slot, POOL_ARGS, Carries carries, volatile global uint* stats,
                     global uint* deferred, volatile global uint* deferred_count) {
     // The run's current cell, by its grid coordinates and its place in the pool (or none when its
     // brick is new), and its sums.
     int cx = -1, cy = -1, cz = -1;
     bool in_pool = false;
-    global ulong* cell = 0;
+    global uint* cell = 0;
+    ulong key = 0;
     ulong n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
     uint outside = 0, largest = 0;
     for (uint i = first; i < end; ++i) {
@@ -173,13 +193,16 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
             continue;
         }
         if (x != cx || y != cy || z != cz) {
-            flush(cell, n, sx, sy, sz, sr, sg, sb);
+            flush(cell, key, n, sx, sy, sz, sr, sg, sb, carries);
             n = sx = sy = sz = sr = sg = sb = 0;
             cx = x, cy = y, cz = z;
             const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)];
             in_pool = slot != 0;
             const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
-            if (in_pool) cell = brick_words(slot - 1, POOL) + in_brick * CELL_WORDS;
+            if (in_pool) {
+                cell = brick_words(slot - 1, POOL) + in_brick * CELL_WORDS;
+                key = ((ulong)(slot - 1) * (B * B * B) + in_brick) * CELL_WORDS;
+            }
         }
         if (!in_pool) {
             if (deferred) deferred[atomic_inc(deferred_count)] = r;
@@ -198,26 +221,31 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
         largest = max(largest, max(red, max(green, blue)));
 #endif
     }
-    flush(cell, n, sx, sy, sz, sr, sg, sb);
+    flush(cell, key, n, sx, sy, sz, sr, sg, sb, carries);
     // stats[0..1]: points outside the grid, a 64-bit sum; stats[2]: the largest colour word, which
     // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
-    if (outside) add_sum((sum_ptr)stats, outside);
+    if (outside) add_pair(stats, outside);
     if (largest > stats[2]) atomic_max(stats + 2, largest);
 }
 
+// counters[0]: points deferred; [1]: bricks new (mark_bricks); [2]: carries listed.
 kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
-                       global const uint* brick_slot, POOL_ARGS, volatile global uint* stats,
-                       global uint* deferred, volatile global uint* deferred_count) {
+                       global const uint* brick_slot, POOL_ARGS, global ulong* carry_list, uint carry_capacity,
+                       volatile global uint* stats, global uint* deferred, volatile global uint* counters) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
+    const Carries carries = {carry_list, counters + 2, carry_capacity};
     accumulate_run(records, 0, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny, nz,
-                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, stats, deferred, deferred_count);
+                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, carries, stats, deferred,
+                   counters);
 }
 
 kernel void accumulate_listed(global const uchar* records, global const uint* listed, uint count, uint record_length,
-                              GRID_ARGS, global const uint* brick_slot, POOL_ARGS, volatile global uint* stats) {
+                              GRID_ARGS, global const uint* brick_slot, POOL_ARGS, global ulong* carry_list,
+                              uint carry_capacity, volatile global uint* stats, volatile global uint* counters) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
+    const Carries carries = {carry_list, counters + 2, carry_capacity};
     accumulate_run(records, listed, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny,
-                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, stats, 0, 0);
+                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, carries, stats, 0, 0);
 }

@@ -90,7 +90,7 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
     for (const OutputRequest& output : o.outputs) encoded = encoded || output.format != MeshFormat::ply;
     // The grid is released before the outputs are written, so the encoders' copy replaces it.
     const std::uint64_t fixed = 64ull << 20;
-    const std::uint64_t need = fixed + std::max(surface_cells * 230 + grid.cells.size() * 10, encoded ? surface_cells * 400 : 0);
+    const std::uint64_t need = fixed + std::max(surface_cells * 230 + grid.brick_keys.size() * DensityGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0);
     const std::uint64_t in_use = resident_bytes();
     if (in_use + need <= o.max_memory) return;
     // The grid and what meshing it takes both shrink with the surface: the square of the grid.

@@ -11,6 +11,9 @@
 #include <doctest/doctest.h>
 
 #include <bit>
+#include <algorithm>
+#include <cstring>
+#include <map>
 #include <cmath>
 
 using namespace lasmesh;
@@ -21,14 +24,18 @@ namespace {
 
 using test::dense;
 
-// Every cell's exact sums, positions included, are the same in both grids.
+// The same occupied bricks and cells, each with the same exact sums, positions included (the
+// records themselves may lie in `cells` in another order: the device's).
 bool sums_equal(const DensityGrid& a, const DensityGrid& b) {
-    if (a.brick_keys != b.brick_keys || a.cells.size() != b.cells.size()) return false;
-    for (std::size_t c = 0; c < a.cells.size(); ++c)
-        if (a.cells[c].count != b.cells[c].count || a.cells[c].position != b.cells[c].position ||
-            a.cells[c].color != b.cells[c].color)
-            return false;
-    return true;
+    if (a.brick_keys != b.brick_keys || a.brick_masks.size() != b.brick_masks.size() || a.cells.size() != b.cells.size())
+        return false;
+    bool equal = true;
+    a.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
+        const CellSums* other = b.find(at[0], at[1], at[2]);
+        equal = equal && other && a.cells[r].count == other->count && a.cells[r].position == other->position &&
+                a.cells[r].color == other->color;
+    });
+    return equal;
 }
 
 using test::accumulate_file;
@@ -217,6 +224,60 @@ TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell
     CHECK(g.mean_color(0) == Rgb8{255, 255, 255});
 }
 
+TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole and in small slices") {
+    test::TempDir dir;
+    // Scale 1e-8 over 20 m: each of the 2 x 2 x 2 cells is 10^9 raw units wide, so one run of 32
+    // points adds more than 2^32 to a position sum, and every sum wraps its low word many times.
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 7;
+    auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11; };
+    for (int i = 0; i < 60000; ++i) {
+        const double spread = i < 40000 ? 10 : 20; // two thirds in cell (0, 0, 0)
+        points.push_back(at(double(next() % 1000000) / 1e6 * spread, double(next() % 1000000) / 1e6 * spread,
+                            double(next() % 1000000) / 1e6 * spread, {255, 255, 255}));
+    }
+    test::write_file(dir.file("wide.las"), las_with_points(points, {0, 0, 0}, {20, 20, 20}, 16, 2, 1e-8));
+    // The exact sums, from the records as written: raw integers minus the cell's start.
+    const DensityGrid whole = accumulate_file(dir.file("wide.las"), grid_of("2"));
+    std::map<std::array<std::int64_t, 3>, CellSums> expected;
+    {
+        LasReader reader(dir.file("wide.las"));
+        const std::size_t length = reader.header().point_record_length;
+        Bytes records(points.size() * length);
+        REQUIRE(reader.read_records({records.data(), records.size()}) == points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            std::array<std::int64_t, 3> cell{}, raw{};
+            for (int a = 0; a < 3; ++a) {
+                std::int32_t r;
+                std::memcpy(&r, records.data() + i * length + 4 * a, 4);
+                raw[a] = r;
+                const auto& starts = whole.axes[a].starts;
+                cell[a] = std::upper_bound(starts.begin(), starts.end() - 1, raw[a]) - starts.begin() - 1;
+            }
+            CellSums& sums = expected[cell];
+            sums.count += 1;
+            for (int a = 0; a < 3; ++a) {
+                sums.position[a] += static_cast<std::uint64_t>(raw[a] - whole.axes[a].starts[static_cast<std::size_t>(cell[a])]);
+                sums.color[a] += 65535;
+            }
+        }
+    }
+    REQUIRE(expected[{0, 0, 0}].position[0] > (std::uint64_t{1} << 44)); // thousands of wraps
+    AccumulateOptions sliced = grid_of("2");
+    sliced.slice_bytes = 64 << 10; // carries are taken between many slices
+    const DensityGrid in_slices = accumulate_file(dir.file("wide.las"), sliced);
+    for (const DensityGrid* g : {&whole, &in_slices}) {
+        CHECK(g->occupied_cells() == expected.size());
+        for (const auto& [cell, sums] : expected) {
+            const CellSums* got = g->find(cell[0], cell[1], cell[2]);
+            REQUIRE(got != nullptr);
+            CHECK(got->count == sums.count);
+            CHECK(got->position == sums.position);
+            CHECK(got->color == sums.color);
+        }
+    }
+}
+
 TEST_CASE("degenerate extents still give a valid grid") {
     test::TempDir dir;
     SUBCASE("a single point") {
@@ -335,8 +396,10 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
     CHECK(m[0] == doctest::Approx(3.625));
     CHECK(m[1] == doctest::Approx(1.75));
     CHECK(m[2] == doctest::Approx(1.875));
-    CHECK(g.find(1, 0, 0) != nullptr);  // same brick as (0,0,0): present, empty
-    CHECK(g.find(1, 0, 0)->count == 0);
+    CHECK(g.find(1, 0, 0) == nullptr); // same brick as (0,0,0), but no point: not kept
+    CHECK(g.count(1, 0, 0) == 0);
+    CHECK(g.brick_masks.size() == 1);
+    CHECK(g.brick_masks[0] == ((std::uint64_t{1} << 0) | (std::uint64_t{1} << ((1 * 4 + 1) * 4 + 3)))); // cells (0,0,0), (3,1,1)
     CHECK(g.occupied_cells() == 2);
     CHECK(g.find(4, 0, 0) == nullptr); // outside the grid
 }

@@ -72,17 +72,17 @@ DenseGrid dense(const lasmesh::DensityGrid& grid) {
     const std::uint64_t cells = grid.spec.cell_count();
     d.count.assign(cells, 0);
     if (grid.has_color()) d.red = d.green = d.blue = d.count;
-    for (std::uint64_t r = 0; r < grid.cells.size(); ++r) {
-        const auto c = grid.cell_of_record(r);
-        if (c[0] >= grid.spec.dims[0] || c[1] >= grid.spec.dims[1] || c[2] >= grid.spec.dims[2]) {
-            REQUIRE(grid.cells[r].count == 0); // brick cells beyond the grid stay empty
-            continue;
-        }
+    grid.for_each_cell([&](const std::array<std::int64_t, 3>& c, std::uint64_t r) {
+        // Bricks may reach beyond the grid, but no point falls there.
+        REQUIRE(c[0] < std::int64_t{grid.spec.dims[0]});
+        REQUIRE(c[1] < std::int64_t{grid.spec.dims[1]});
+        REQUIRE(c[2] < std::int64_t{grid.spec.dims[2]});
+        REQUIRE(grid.cells[r].count > 0); // only occupied cells are kept
         const std::uint64_t index = (c[2] * grid.spec.dims[1] + c[1]) * grid.spec.dims[0] + c[0];
         d.count[index] = grid.cells[r].count;
         if (grid.has_color())
             d.red[index] = grid.cells[r].color[0], d.green[index] = grid.cells[r].color[1], d.blue[index] = grid.cells[r].color[2];
-    }
+    });
     return d;
 }
 
@@ -109,34 +109,30 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
         g.bricks[a] = static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
     }
     g.brick_index.assign(std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2], 0);
-    std::vector<bool> occupied(g.brick_index.size(), false);
-    auto brick_of = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
-        const int b = DensityGrid::brick_bits;
-        return ((z >> b) * g.bricks[1] + (y >> b)) * g.bricks[0] + (x >> b);
-    };
-    for (std::uint64_t z = 0; z < spec.dims[2]; ++z)
-        for (std::uint64_t y = 0; y < spec.dims[1]; ++y)
-            for (std::uint64_t x = 0; x < spec.dims[0]; ++x)
-                if (count[(z * spec.dims[1] + y) * spec.dims[0] + x] > 0) occupied[brick_of(x, y, z)] = true;
-    for (std::uint64_t b = 0; b < occupied.size(); ++b)
-        if (occupied[b]) {
-            g.brick_keys.push_back(b);
-            g.brick_index[b] = static_cast<std::uint32_t>(g.brick_keys.size());
+    // Brick by brick in ascending order, each brick's occupied cells in the order of their bits.
+    for (std::uint64_t key = 0; key < g.brick_index.size(); ++key) {
+        std::uint64_t mask = 0;
+        const std::uint64_t first = g.cells.size();
+        for (unsigned bit = 0; bit < DensityGrid::brick_cells; ++bit) {
+            const auto c = g.cell_in_brick(key, bit);
+            if (c[0] >= std::int64_t{spec.dims[0]} || c[1] >= std::int64_t{spec.dims[1]} || c[2] >= std::int64_t{spec.dims[2]}) continue;
+            const std::uint64_t index = (std::uint64_t(c[2]) * spec.dims[1] + std::uint64_t(c[1])) * spec.dims[0] + std::uint64_t(c[0]);
+            if (count[index] == 0) continue;
+            mask |= std::uint64_t{1} << bit;
+            lasmesh::CellSums cell;
+            cell.count = count[index];
+            for (int a = 0; a < 3; ++a) // every point at the cell's centre
+                cell.position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[std::size_t(c[a]) + 1] - g.axes[a].starts[std::size_t(c[a])]) / 2);
+            if (g.color) cell.color = {red[index], green[index], blue[index]};
+            g.points_read += count[index];
+            g.cells.push_back(cell);
         }
-    g.cells.resize(g.brick_keys.size() * DensityGrid::brick_cells);
-    for (std::uint64_t z = 0; z < spec.dims[2]; ++z)
-        for (std::uint64_t y = 0; y < spec.dims[1]; ++y)
-            for (std::uint64_t x = 0; x < spec.dims[0]; ++x) {
-                const std::uint64_t index = (z * spec.dims[1] + y) * spec.dims[0] + x;
-                if (count[index] == 0) continue;
-                auto* cell = const_cast<lasmesh::CellSums*>(g.find(std::int64_t(x), std::int64_t(y), std::int64_t(z)));
-                cell->count = count[index];
-                const std::uint64_t c[3] = {x, y, z};
-                for (int a = 0; a < 3; ++a) // every point at the cell's centre
-                    cell->position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[c[a] + 1] - g.axes[a].starts[c[a]]) / 2);
-                if (g.color) cell->color = {red[index], green[index], blue[index]};
-                g.points_read += count[index];
-            }
+        if (mask == 0) continue;
+        g.brick_keys.push_back(key);
+        g.brick_index[key] = static_cast<std::uint32_t>(g.brick_keys.size());
+        g.brick_masks.push_back(mask);
+        g.brick_first.push_back(first);
+    }
     return g;
 }
 

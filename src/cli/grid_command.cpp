@@ -56,6 +56,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         json["occupied_bricks"] = grid.brick_keys.size();
         json["brick_cells"] = DensityGrid::brick_cells;
         json["pool_bytes"] = pool_bytes;
+        json["host_grid_bytes"] = grid.host_bytes();
         json["color"] = depth;
         json["seconds"] = seconds;
         out << json_line(json) << '\n';
@@ -72,7 +73,8 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         << 100 * outside_share << "%)\n"
         << "occupied cells       " << occupied << " of " << grid.spec.cell_count() << "\n"
         << "occupied bricks      " << grid.brick_keys.size() << " of " << DensityGrid::brick_cells << " cells: "
-        << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device\n"
+        << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device, " << grid.host_bytes() / 1e6
+        << " MB on the host (occupied cells only)\n"
         << "most points in cell  " << fullest << "\n"
         << "colour               " << depth << "\n"
         << "read + accumulate    " << std::setprecision(3) << seconds << " s\n";

@@ -27,18 +27,31 @@ constexpr std::size_t slots = slice_buffers;
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
 
-// Moves brick s of `cells` to brick place[s], for every s: cycle by cycle, in place, so sorting
-// the bricks takes no second copy of the grid.
-void put_bricks_in_order(std::vector<CellSums>& cells, std::vector<std::uint64_t> place) {
-    constexpr std::int64_t n = DensityGrid::brick_cells;
-    for (std::uint64_t s = 0; s < place.size(); ++s)
-        while (place[s] != s) {
-            const std::uint64_t t = place[s];
-            std::swap_ranges(cells.begin() + static_cast<std::ptrdiff_t>(s * n), cells.begin() + static_cast<std::ptrdiff_t>((s + 1) * n),
-                             cells.begin() + static_cast<std::ptrdiff_t>(t * n));
-            std::swap(place[s], place[t]);
-        }
+// The pool keeps the low 32 bits of each sum; an add that carries past them lists the high bits
+// (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per word a
+// run flushes, and at most two kernels' worth of runs (`points_between_reads` points). Over the
+// whole run: word w can list no more than twice its total over 2^32 (once per wrap of its low
+// word, once per add of 2^32 or more), and the totals of all words are at most `points` times
+// the largest a point adds to them. The list needs the smaller of the two.
+std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads, const std::array<AxisCells, 3>& axes,
+                             bool color) {
+    unsigned __int128 per_point = 1; // the count
+    for (const AxisCells& axis : axes) {
+        std::int64_t widest = 0; // the widest cell in raw units bounds a point's offset from its start
+        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i) widest = std::max(widest, axis.starts[i + 1] - axis.starts[i]);
+        per_point += static_cast<std::uint64_t>(widest);
+    }
+    if (color) per_point += 3 * 65535;
+    const unsigned __int128 over_run = 2 * (per_point * points >> 32);
+    const std::uint64_t between_reads = points_between_reads * cell_words(color);
+    return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
 }
+
+// One listed carry: pool word `key` gets `high` << 32.
+struct Carry {
+    std::uint64_t key = 0, high = 0;
+    bool operator<(const Carry& o) const { return key < o.key; }
+};
 
 } // namespace
 
@@ -66,7 +79,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
 
     const std::uint64_t bricks = brick_count(out.spec);
     const std::uint64_t brick_bytes = brick_device_bytes(color);
-    const MemoryNeed fixed = memory_need(out.spec, slice_bytes);
+    const std::uint64_t carry_slots = carry_capacity(reader.records_left(), 2 * slice_records, out.axes, color);
+    MemoryNeed fixed = memory_need(out.spec, slice_bytes);
+    fixed.device_bytes += carry_slots * 2 * sizeof(std::uint64_t);
     std::uint64_t used = 0;
     const PoolLayout layout = pool_layout(std::max<std::uint64_t>(1, max_alloc / brick_bytes));
     std::vector<cl::Buffer> chunks;
@@ -99,9 +114,11 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // one per record.
         cl::Buffer deferred = large_buffer(ctx, deferred_memory, slice_records * 4);
         cl::Buffer new_bricks = large_buffer(ctx, new_bricks_memory, slice_records * 4);
-        cl::Buffer deferred_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint)), new_count(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
-        queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
-        queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
+        // Points deferred, bricks new, carries listed.
+        cl::Buffer counters(ctx, CL_MEM_READ_WRITE, 3 * sizeof(cl_uint));
+        queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 3 * sizeof(cl_uint));
+        cl::Buffer carry_list(ctx, CL_MEM_READ_WRITE, carry_slots * 2 * sizeof(cl_ulong));
+        std::vector<Carry> carries;
         cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
         queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
 
@@ -126,33 +143,53 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             k->setArg(first + 10, static_cast<cl_uint>(out.bricks[1]));
             k->setArg(first + 11, index);
         }
-        // Then the pool's chunks (null until they exist), stats, and the list of deferred points.
+        // Then the pool's chunks (null until they exist), the carries, stats, the list of deferred
+        // points and the counters.
         constexpr int pool_arg_add = 15, pool_arg_listed = 16, chunk_args = PoolLayout::max_chunks;
         for (int c = 0; c < chunk_args; ++c) {
             add.setArg(pool_arg_add + c, cl::Buffer());
             add_listed.setArg(pool_arg_listed + c, cl::Buffer());
         }
-        add.setArg(pool_arg_add + chunk_args, stats);
-        add.setArg(pool_arg_add + chunk_args + 1, deferred);
-        add.setArg(pool_arg_add + chunk_args + 2, deferred_count);
+        for (const auto& [k, first] : {std::pair{&add, pool_arg_add + chunk_args}, std::pair{&add_listed, pool_arg_listed + chunk_args}}) {
+            k->setArg(first, carry_list);
+            k->setArg(first + 1, static_cast<cl_uint>(carry_slots));
+            k->setArg(first + 2, stats);
+        }
+        add.setArg(pool_arg_add + chunk_args + 3, deferred);
+        add.setArg(pool_arg_add + chunk_args + 4, counters);
+        add_listed.setArg(pool_arg_listed + chunk_args + 3, counters);
         mark.setArg(1, deferred);
         mark.setArg(16, new_bricks);
-        mark.setArg(17, new_count);
+        mark.setArg(17, counters);
         assign.setArg(0, new_bricks);
         assign.setArg(3, index);
         add_listed.setArg(1, deferred);
-        add_listed.setArg(pool_arg_listed + chunk_args, stats);
+
+        // Every kernel so far has finished: takes the carries they listed, and empties the list.
+        auto take_carries = [&](cl_uint listed) {
+            if (listed == 0) return;
+            if (listed > carry_slots)
+                throw Error(ErrorKind::device, "the list of carries overflowed (" + std::to_string(listed) + " of " +
+                                                     std::to_string(carry_slots) + "): the sums would be wrong");
+            std::vector<cl_ulong> pairs(2 * std::size_t{listed});
+            queue.enqueueReadBuffer(carry_list, CL_TRUE, 0, pairs.size() * sizeof(cl_ulong), pairs.data());
+            for (std::size_t i = 0; i < pairs.size(); i += 2) carries.push_back({pairs[i], pairs[i + 1]});
+            queue.enqueueFillBuffer(counters, cl_uint{0}, 2 * sizeof(cl_uint), sizeof(cl_uint));
+        };
 
         // The points of the slice in `records` whose bricks were new: their bricks get slots (the
         // pool grows first when it must), then the points are added.
         auto add_deferred = [&](const cl::Buffer& records) {
-            cl_uint listed = 0, fresh = 0;
-            queue.enqueueReadBuffer(deferred_count, CL_TRUE, 0, sizeof listed, &listed);
+            cl_uint count[3] = {};
+            queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof count, count);
+            take_carries(count[2]);
+            const cl_uint listed = count[0];
             if (listed == 0) return;
             mark.setArg(0, records);
             mark.setArg(2, listed);
             queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), cl::NullRange);
-            queue.enqueueReadBuffer(new_count, CL_TRUE, 0, sizeof fresh, &fresh);
+            cl_uint fresh = 0;
+            queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_uint), sizeof fresh, &fresh);
             while (used + fresh > layout.chunk_start(static_cast<unsigned>(chunks.size()))) {
                 // Another chunk; nothing moves.
                 const auto c = static_cast<unsigned>(chunks.size());
@@ -205,8 +242,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             add_listed.setArg(2, listed);
             const std::size_t items = (listed + run_length - 1) / run_length;
             queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange);
-            queue.enqueueFillBuffer(deferred_count, cl_uint{0}, 0, sizeof(cl_uint));
-            queue.enqueueFillBuffer(new_count, cl_uint{0}, 0, sizeof(cl_uint));
+            queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 2 * sizeof(cl_uint));
         };
 
         // Double buffering: the host reads slice k + 1 into one mapped buffer while the device
@@ -249,13 +285,17 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             queue.flush();
         }
         queue.finish();
+        cl_uint carries_listed = 0;
+        queue.enqueueReadBuffer(counters, CL_TRUE, 2 * sizeof(cl_uint), sizeof carries_listed, &carries_listed);
+        take_carries(carries_listed);
+        std::sort(carries.begin(), carries.end());
 
         cl_uint stat_words[4] = {};
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
         out.points_outside = stat_words[0] | (std::uint64_t{stat_words[1]} << 32);
         out.color_max_word = stat_words[2];
 
-        // The bricks in ascending order of position, whatever order the device met them in.
+        // The occupied bricks in ascending order of position, whatever order the device met them in.
         out.brick_index.resize(bricks);
         queue.enqueueReadBuffer(index, CL_TRUE, 0, bricks * 4, out.brick_index.data());
         std::vector<std::uint64_t> position_of_slot(used);
@@ -267,16 +307,22 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             at = static_cast<std::uint32_t>(out.brick_keys.size());
         }
         // Read the pool back chunk by chunk in slot order, releasing each chunk once read, so the
-        // device's copy shrinks while the host's grows; then put the bricks in ascending order.
+        // device's copy shrinks while the host's grows. The host keeps only the cells that hold a
+        // point, each brick's where the slot order puts it (DensityGrid says how to find them).
         for (int c = 0; c < chunk_args; ++c) {
             add.setArg(pool_arg_add + c, cl::Buffer());
             add_listed.setArg(pool_arg_listed + c, cl::Buffer());
         }
+        out.brick_masks.resize(used);
+        out.brick_first.resize(used);
+        // Room for every cell of every brick, in address space only: pages are taken as written.
         out.cells.reserve(used * DensityGrid::brick_cells);
         advise_large_pages(out.cells.data(), out.cells.capacity() * sizeof(CellSums));
         const std::uint64_t words = cell_words(color);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes);
-        std::vector<cl_ulong> block(block_bricks * DensityGrid::brick_cells * words);
+        std::vector<cl_uint> block(block_bricks * DensityGrid::brick_cells * words);
+        auto carry = carries.begin();
+        std::array<CellSums, DensityGrid::brick_cells> brick{};
         for (unsigned c = 0; c < chunks.size(); ++c) {
             const std::uint64_t start = layout.chunk_start(c);
             const std::uint64_t in_chunk = used > start ? std::min(layout.chunk_bricks(c), used - start) : 0;
@@ -284,18 +330,35 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 const std::uint64_t n = std::min(block_bricks, in_chunk - first);
                 queue.enqueueReadBuffer(chunks[c], CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
                 chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
-                for (const cl_ulong* src = block.data(); src < block.data() + n * DensityGrid::brick_cells * words; src += words) {
-                    CellSums cell;
-                    cell.count = src[0];
-                    cell.position = {src[1], src[2], src[3]};
-                    if (color) cell.color = {src[4], src[5], src[6]};
-                    out.cells.push_back(cell);
+                for (std::uint64_t i = 0; i < n; ++i) {
+                    const std::uint64_t slot = start + first + i;
+                    const cl_uint* src = block.data() + i * DensityGrid::brick_cells * words;
+                    for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
+                        brick[k].count = src[0];
+                        brick[k].position = {src[1], src[2], src[3]};
+                        if (color) brick[k].color = {src[4], src[5], src[6]};
+                    }
+                    const std::uint64_t first_key = slot * DensityGrid::brick_cells * words;
+                    for (; carry != carries.end() && carry->key < first_key + DensityGrid::brick_cells * words; ++carry) {
+                        CellSums& cell = brick[(carry->key - first_key) / words];
+                        const std::uint64_t word = (carry->key - first_key) % words;
+                        std::uint64_t& sum = word == 0 ? cell.count : word < 4 ? cell.position[word - 1] : cell.color[word - 4];
+                        sum += carry->high << 32;
+                    }
+                    const std::uint64_t b = position_of_slot[slot];
+                    out.brick_first[b] = out.cells.size();
+                    std::uint64_t mask = 0;
+                    for (std::size_t k = 0; k < brick.size(); ++k)
+                        if (brick[k].count > 0) {
+                            mask |= std::uint64_t{1} << k;
+                            out.cells.push_back(brick[k]);
+                        }
+                    out.brick_masks[b] = mask;
                 }
             }
             chunks[c] = cl::Buffer();
             chunk_memory[c] = HostMemory();
         }
-        put_bricks_in_order(out.cells, std::move(position_of_slot));
     } catch (const cl::Error& e) {
         throw_device_error(e, "accumulating the grid on " + dev.info.name);
     }

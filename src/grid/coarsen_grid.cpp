@@ -6,14 +6,15 @@
 #include "lasmesh/grid/density_grid.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <string>
 
 namespace lasmesh {
 
 std::uint64_t median_occupied_count(const DensityGrid& grid) {
     std::vector<std::uint64_t> counts;
-    for (const CellSums& cell : grid.cells)
-        if (cell.count > 0) counts.push_back(cell.count);
+    counts.reserve(grid.cells.size());
+    for (const CellSums& cell : grid.cells) counts.push_back(cell.count);
     if (counts.empty()) return 0;
     const auto middle = counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2);
     std::nth_element(counts.begin(), middle, counts.end());
@@ -40,32 +41,49 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
     coarse.points_outside = fine.points_outside;
     coarse.color_max_word = fine.color_max_word;
 
-    // The coarse bricks: fine brick (x, y, z) falls in coarse brick (x / 2, y / 2, z / 2).
+    // The coarse bricks: fine brick (x, y, z) falls in coarse brick (x / 2, y / 2, z / 2). Each
+    // coarse brick is summed from its (up to 8) fine bricks, then keeps its occupied cells.
     auto coarse_key = [&](std::uint64_t key) {
         const std::uint64_t x = key % fine.bricks[0], y = key / fine.bricks[0] % fine.bricks[1], z = key / fine.bricks[0] / fine.bricks[1];
         return (z / 2 * coarse.bricks[1] + y / 2) * coarse.bricks[0] + x / 2;
     };
-    for (const std::uint64_t key : fine.brick_keys) coarse.brick_keys.push_back(coarse_key(key));
-    std::sort(coarse.brick_keys.begin(), coarse.brick_keys.end());
-    coarse.brick_keys.erase(std::unique(coarse.brick_keys.begin(), coarse.brick_keys.end()), coarse.brick_keys.end());
+    std::vector<std::pair<std::uint64_t, std::size_t>> fine_of_coarse; // (coarse key, fine brick)
+    fine_of_coarse.reserve(fine.brick_keys.size());
+    for (std::size_t b = 0; b < fine.brick_keys.size(); ++b) fine_of_coarse.emplace_back(coarse_key(fine.brick_keys[b]), b);
+    std::sort(fine_of_coarse.begin(), fine_of_coarse.end());
     coarse.brick_index.assign(std::uint64_t{coarse.bricks[0]} * coarse.bricks[1] * coarse.bricks[2], 0);
-    for (std::size_t b = 0; b < coarse.brick_keys.size(); ++b)
-        coarse.brick_index[coarse.brick_keys[b]] = static_cast<std::uint32_t>(b + 1);
-    coarse.cells.resize(coarse.brick_keys.size() * DensityGrid::brick_cells);
-
-    for (std::uint64_t r = 0; r < fine.cells.size(); ++r) {
-        const CellSums& from = fine.cells[r];
-        if (from.count == 0) continue;
-        const auto cell = fine.cell_of_record(r);
-        CellSums* to = &coarse.cells[static_cast<std::size_t>(coarse.find(cell[0] >> 1, cell[1] >> 1, cell[2] >> 1) - coarse.cells.data())];
-        to->count += from.count;
-        for (int a = 0; a < 3; ++a) {
-            // Position sums count from the cell's first raw value: the fine cell starts later.
-            const std::int64_t shift = fine.axes[a].starts[static_cast<std::size_t>(cell[a])] -
-                                       coarse.axes[a].starts[static_cast<std::size_t>(cell[a] >> 1)];
-            to->position[a] += from.position[a] + from.count * static_cast<std::uint64_t>(shift);
-            to->color[a] += from.color[a];
+    std::array<CellSums, DensityGrid::brick_cells> sums{};
+    for (std::size_t i = 0; i < fine_of_coarse.size();) {
+        const std::uint64_t key = fine_of_coarse[i].first;
+        sums.fill(CellSums{});
+        for (; i < fine_of_coarse.size() && fine_of_coarse[i].first == key; ++i) {
+            const std::size_t b = fine_of_coarse[i].second;
+            std::uint64_t record = fine.brick_first[b];
+            for (std::uint64_t mask = fine.brick_masks[b]; mask != 0; mask &= mask - 1, ++record) {
+                const CellSums& from = fine.cells[record];
+                const auto cell = fine.cell_in_brick(fine.brick_keys[b], static_cast<unsigned>(std::countr_zero(mask)));
+                constexpr std::int64_t m = size - 1;
+                CellSums& to = sums[static_cast<std::size_t>((((cell[2] >> 1) & m) * size + ((cell[1] >> 1) & m)) * size + ((cell[0] >> 1) & m))];
+                to.count += from.count;
+                for (int a = 0; a < 3; ++a) {
+                    // Position sums count from the cell's first raw value: the fine cell starts later.
+                    const std::int64_t shift = fine.axes[a].starts[static_cast<std::size_t>(cell[a])] -
+                                               coarse.axes[a].starts[static_cast<std::size_t>(cell[a] >> 1)];
+                    to.position[a] += from.position[a] + from.count * static_cast<std::uint64_t>(shift);
+                    to.color[a] += from.color[a];
+                }
+            }
         }
+        coarse.brick_keys.push_back(key);
+        coarse.brick_index[key] = static_cast<std::uint32_t>(coarse.brick_keys.size());
+        coarse.brick_first.push_back(coarse.cells.size());
+        std::uint64_t mask = 0;
+        for (std::size_t k = 0; k < sums.size(); ++k)
+            if (sums[k].count > 0) {
+                mask |= std::uint64_t{1} << k;
+                coarse.cells.push_back(sums[k]);
+            }
+        coarse.brick_masks.push_back(mask);
     }
     return coarse;
 }

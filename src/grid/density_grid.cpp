@@ -7,10 +7,12 @@
 
 namespace lasmesh {
 
-std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 8; }
+std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 4; }
 
-std::uint64_t DensityGrid::occupied_cells() const {
-    return static_cast<std::uint64_t>(std::count_if(cells.begin(), cells.end(), [](const CellSums& c) { return c.count > 0; }));
+std::uint64_t DensityGrid::occupied_cells() const { return cells.size(); }
+
+std::uint64_t DensityGrid::host_bytes() const {
+    return brick_index.size() * sizeof(std::uint32_t) + brick_keys.size() * 3 * sizeof(std::uint64_t) + cells.size() * sizeof(CellSums);
 }
 
 Rgb8 DensityGrid::mean_color(const CellSums& cell) const {

@@ -100,7 +100,7 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
 }
 
 std::uint64_t first_chunk_bytes(const GridSpec& grid) {
-    return std::min<std::uint64_t>(1024, brick_count(grid)) * DensityGrid::brick_cells * cell_words(true) * 8;
+    return std::min<std::uint64_t>(1024, brick_count(grid)) * DensityGrid::brick_cells * cell_words(true) * 4;
 }
 
 MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {

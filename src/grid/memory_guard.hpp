@@ -18,7 +18,7 @@ constexpr std::size_t slice_buffers = 2;
 
 std::string mib(std::uint64_t bytes);
 std::string dims_text(const GridSpec& grid);
-// 64-bit words a cell takes on the device.
+// 32-bit words a cell takes on the device.
 std::uint64_t cell_words(bool color);
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid);
 std::uint64_t brick_count(const GridSpec& grid);

@@ -74,14 +74,14 @@ struct Planes {
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const DensityGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
-        for (std::uint64_t r = 0; r < g.cells.size(); ++r) {
-            if (!(static_cast<double>(g.cells[r].count) > iso)) continue;
+        g.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
+            if (!(static_cast<double>(g.cells[r].count) > iso)) return;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
-            cell.push_back(g.cell_of_record(r));
-            centroid.push_back(g.centroid(cell.back(), g.cells[r]));
+            cell.push_back(at);
+            centroid.push_back(g.centroid(at, g.cells[r]));
             count.push_back(g.cells[r].count);
             if (g.has_color()) color.push_back(g.mean_color(g.cells[r]));
-        }
+        });
         normal.resize(cell.size());
     }
     // From the grid's brick index only (its cells may be gone).
@@ -254,11 +254,16 @@ struct SheetField {
                 for (std::int64_t bx = lo[0]; bx <= hi[0]; ++bx) {
                     const std::uint32_t at = g.brick_index[(std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx)];
                     if (at == 0) continue;
-                    const std::uint32_t* records = &planes.of_record[(at - 1) * static_cast<std::uint64_t>(DensityGrid::brick_cells)];
+                    // The brick's planes by cell (its records hold only the occupied cells).
+                    std::array<std::uint32_t, DensityGrid::brick_cells> records;
+                    records.fill(no_plane);
+                    std::uint64_t r = g.brick_first[at - 1];
+                    for (std::uint64_t mask = g.brick_masks[at - 1]; mask != 0; mask &= mask - 1)
+                        records[static_cast<std::size_t>(std::countr_zero(mask))] = planes.of_record[r++];
                     for (std::int64_t z = std::max(bz * size, s.first[2]); z < std::min((bz + 1) * size, s.first[2] + s.span); ++z)
                         for (std::int64_t y = std::max(by * size, s.first[1]); y < std::min((by + 1) * size, s.first[1] + s.span); ++y)
                             for (std::int64_t x = std::max(bx * size, s.first[0]); x < std::min((bx + 1) * size, s.first[0] + s.span); ++x) {
-                                const std::uint32_t p = records[((z - bz * size) * size + (y - by * size)) * size + (x - bx * size)];
+                                const std::uint32_t p = records[static_cast<std::size_t>(((z - bz * size) * size + (y - by * size)) * size + (x - bx * size))];
                                 if (p == no_plane) continue;
                                 const std::size_t row = static_cast<std::size_t>((z - s.first[2]) * s.span + (y - s.first[1]));
                                 s.plane[row * static_cast<std::size_t>(s.span) + static_cast<std::size_t>(x - s.first[0])] = p;
@@ -311,11 +316,11 @@ Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& r
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
     // Corners are sampled only near surface cells: the bricks that hold one, and their neighbours.
     std::vector<std::uint64_t> surface_bricks;
-    for (std::uint64_t b = 0; b < grid.brick_keys.size(); ++b)
-        if (std::any_of(planes.of_record.begin() + static_cast<std::ptrdiff_t>(b * DensityGrid::brick_cells),
-                        planes.of_record.begin() + static_cast<std::ptrdiff_t>((b + 1) * DensityGrid::brick_cells),
-                        [](std::uint32_t p) { return p != no_plane; }))
+    for (std::uint64_t b = 0; b < grid.brick_keys.size(); ++b) {
+        const auto first = planes.of_record.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[b]);
+        if (std::any_of(first, first + std::popcount(grid.brick_masks[b]), [](std::uint32_t p) { return p != no_plane; }))
             surface_bricks.push_back(grid.brick_keys[b]);
+    }
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color());
     agree_normals_with_faces(mesh);
     mesh.origin = grid.spec.origin;

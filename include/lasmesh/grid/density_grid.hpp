@@ -9,6 +9,7 @@
 #include "lasmesh/read/las_reader.hpp"
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -43,17 +44,23 @@ struct DensityGrid {
     static constexpr int brick_bits = 2;
     static constexpr std::int64_t brick_size = 1 << brick_bits;
     static constexpr std::int64_t brick_cells = brick_size * brick_size * brick_size;
+    static_assert(brick_cells <= 64, "a brick's occupied cells are the bits of one 64-bit mask");
 
     GridSpec spec;
     std::array<AxisCells, 3> axes; // each axis's cell starts in raw LAS integers
     Vec3 scale{1, 1, 1}, offset{}; // the LAS header's, to turn raw sums into coordinates
     std::array<std::uint32_t, 3> bricks{};
-    // Per brick (x fastest): 0 when none of its cells holds a point, else 1 + its position in
-    // brick_keys. brick_keys lists the occupied bricks' linear indices in ascending order, and
-    // `cells` holds brick_cells records for each, in the same order (x fastest inside a brick):
-    // the layout does not depend on the order in which the device met the bricks.
+    // Only the cells that hold a point are kept. Per brick (x fastest): 0 when none of its cells
+    // holds a point, else 1 + its position b in brick_keys, the occupied bricks' linear indices in
+    // ascending order. Occupied brick b has its cells' bits set in brick_masks[b] (bit
+    // (z * B + y) * B + x for the cell at (x, y, z) inside it), and their records at
+    // cells[brick_first[b]], one after the other in the order of the bits. The bricks' runs of
+    // records lie in `cells` in no particular order (the device's): anything whose result depends
+    // on the order visits the cells with for_each_cell, which goes by brick_keys.
     std::vector<std::uint32_t> brick_index;
     std::vector<std::uint64_t> brick_keys;
+    std::vector<std::uint64_t> brick_masks;
+    std::vector<std::uint64_t> brick_first;
     std::vector<CellSums> cells;
     bool color = false;
     std::uint64_t points_read = 0;
@@ -65,7 +72,7 @@ struct DensityGrid {
     // anything larger means true 16-bit colour, scaled by 255 / 65535.
     bool color_is_16bit() const { return color_max_word > 255; }
 
-    // The cell (x, y, z), or nullptr when it lies outside the grid or in a brick with no points.
+    // The cell (x, y, z), or nullptr when no point fell in it or it lies outside the grid.
     const CellSums* find(std::int64_t x, std::int64_t y, std::int64_t z) const {
         const std::uint64_t r = record_of(x, y, z);
         return r == no_record ? nullptr : &cells[r];
@@ -74,8 +81,8 @@ struct DensityGrid {
         const CellSums* c = find(x, y, z);
         return c ? c->count : 0;
     }
-    // The index in `cells` of cell (x, y, z), or no_record when it lies outside the grid or in a
-    // brick with no points (from the brick index alone).
+    // The index in `cells` of cell (x, y, z), or no_record when no point fell in it or it lies
+    // outside the grid (from the brick index and masks alone: the cells themselves may be gone).
     static constexpr std::uint64_t no_record = ~std::uint64_t{0};
     std::uint64_t record_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
         if (x < 0 || y < 0 || z < 0 || x >= std::int64_t{spec.dims[0]} || y >= std::int64_t{spec.dims[1]} ||
@@ -86,16 +93,31 @@ struct DensityGrid {
         const std::uint32_t at = brick_index[brick];
         if (at == 0) return no_record;
         const std::int64_t m = brick_size - 1;
-        return (at - 1) * std::uint64_t{brick_cells} + std::uint64_t(((z & m) * brick_size + (y & m)) * brick_size + (x & m));
+        const unsigned bit = unsigned(((z & m) * brick_size + (y & m)) * brick_size + (x & m));
+        const std::uint64_t mask = brick_masks[at - 1];
+        if (!(mask >> bit & 1)) return no_record;
+        return brick_first[at - 1] + static_cast<std::uint64_t>(std::popcount(mask & ((std::uint64_t{1} << bit) - 1)));
     }
-    // The grid coordinates of record `n` of `cells`.
-    std::array<std::int64_t, 3> cell_of_record(std::uint64_t n) const {
-        const std::uint64_t key = brick_keys[n / brick_cells], local = n % brick_cells;
+    // The grid coordinates of cell `bit` of brick `key`.
+    std::array<std::int64_t, 3> cell_in_brick(std::uint64_t key, unsigned bit) const {
         const std::uint64_t bx = key % bricks[0], by = key / bricks[0] % bricks[1], bz = key / bricks[0] / bricks[1];
-        return {std::int64_t(bx * brick_size + local % brick_size), std::int64_t(by * brick_size + local / brick_size % brick_size),
-                std::int64_t(bz * brick_size + local / (brick_size * brick_size))};
+        return {std::int64_t(bx * brick_size + bit % brick_size), std::int64_t(by * brick_size + bit / brick_size % brick_size),
+                std::int64_t(bz * brick_size + bit / (brick_size * brick_size))};
+    }
+    // visit(cell coordinates, record index) for every cell that holds a point, bricks in
+    // ascending order of position and cells in the order of their bits: the same order whatever
+    // order the device met them in.
+    template <class Visit>
+    void for_each_cell(Visit visit) const {
+        for (std::size_t b = 0; b < brick_keys.size(); ++b) {
+            std::uint64_t record = brick_first[b];
+            for (std::uint64_t mask = brick_masks[b]; mask != 0; mask &= mask - 1, ++record)
+                visit(cell_in_brick(brick_keys[b], static_cast<unsigned>(std::countr_zero(mask))), record);
+        }
     }
     std::uint64_t occupied_cells() const;
+    // Bytes the grid holds on the host: the brick index, the occupied bricks and their cells.
+    std::uint64_t host_bytes() const;
     // The average colour of a cell's points as 8-bit sRGB (rounded); black for an empty cell.
     Rgb8 mean_color(const CellSums& cell) const;
     // The mean position of a cell's points, relative to spec.origin.
