@@ -87,7 +87,6 @@ struct PlaneSums { // PlaneSums{} is zero; `new PlaneSums[n]` leaves it to be se
     Quadric quadric;
     double weight;
     V3 reference; // a unit vector once all faces are in
-    std::uint32_t vertex;
 };
 
 // A face's plane as a quadric weighted by its area, and its normal as long as twice its area.
@@ -119,9 +118,11 @@ struct Shared {
     const std::vector<std::array<float, 3>>& position;
     std::vector<Face>& faces;         // current faces
     // Per vertex, where its quadric, area and original unit normal are in `stored` (after the
-    // first pass: every vertex left; during it, the vertices blocks share).
+    // first pass: every vertex left; during it, the vertices blocks share). The first pass gives
+    // each block a range of slots for the vertices only it has, so they go straight there; the
+    // slots of the vertices it removes are never written, and their pages are never touched.
     std::vector<std::uint32_t> slot;
-    std::vector<PlaneSums> stored;
+    std::unique_ptr<PlaneSums[]> stored;
     std::vector<char> face_alive;
     std::vector<float> face_error;    // how far the original surface it stands for may be
     std::vector<char> locked;         // vertices that never move
@@ -181,8 +182,8 @@ public:
 
     // Simplifies the block. First pass: the planes come from the block's faces (the shared
     // vertices' from s_.stored), and the vertices only this block has that are left go to
-    // `kept`; later passes: from and back to s_.stored.
-    void run(bool first_pass, std::vector<PlaneSums>& kept) {
+    // s_.stored from `first_slot` on; later passes: from and back to s_.stored.
+    void run(bool first_pass, std::uint32_t first_slot) {
         const std::size_t n = global_.size();
         movable_.assign(n, 0), target_.assign(n, 0), stamp_.assign(n, 0), alive_.assign(n, 1), queued_.assign(n, 0);
         interior_.assign(n, 0);
@@ -230,7 +231,7 @@ public:
         for (std::uint32_t v = 0; v < n; ++v) {
             const std::uint32_t g = global_[v];
             if (!interior_[v] || !alive_[v]) continue;
-            if (first_pass) kept.push_back({quadric_[v], weight_[v], reference_[v], g});
+            if (first_pass) s_.slot[g] = first_slot, s_.stored[first_slot++] = {quadric_[v], weight_[v], reference_[v]};
             else if (target_[v]) s_.stored[s_.slot[g]].quadric = quadric_[v], s_.stored[s_.slot[g]].weight = weight_[v];
         }
     }
@@ -631,10 +632,19 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
             for (std::size_t f = 0; f < nf; ++f)
                 if (s.face_alive[f] && !active[f])
                     for (const std::uint32_t v : s.faces[f]) s.outside[v] = 1;
+        // The first pass's slots: the vertices blocks share first, then per block a range as long
+        // as the vertices only it has.
+        std::vector<std::uint32_t> first_slot(blocks + 1, 0);
         if (pass == 0) {
-            // The planes of the original faces around the vertices blocks share, in face order.
+            std::uint32_t shared = 0;
             for (std::uint32_t v = 0; v < nv; ++v)
-                if (held[v]) s.slot[v] = std::uint32_t(s.stored.size()), s.stored.push_back(PlaneSums{});
+                if (held[v]) s.slot[v] = shared++;
+                else if (owner[v] != nobody) ++first_slot[owner[v] + 1];
+            first_slot[0] = shared;
+            for (std::size_t b = 0; b < blocks; ++b) first_slot[b + 1] += first_slot[b];
+            s.stored.reset(new PlaneSums[first_slot[blocks]]);
+            std::fill(s.stored.get(), s.stored.get() + shared, PlaneSums{});
+            // The planes of the original faces around the vertices blocks share, in face order.
             for (std::size_t f = 0; f < nf; ++f) {
                 const Face& t = s.faces[f];
                 if (!held[t[0]] && !held[t[1]] && !held[t[2]]) continue;
@@ -642,16 +652,13 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
                 for (const std::uint32_t v : t)
                     if (held[v]) plane.add_to(s.stored[s.slot[v]]);
             }
-            for (PlaneSums& p : s.stored) unit_normal(p.reference);
+            for (std::uint32_t i = 0; i < shared; ++i) unit_normal(s.stored[i].reference);
         }
-        std::vector<std::vector<PlaneSums>> kept(blocks);
         tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
             Block& mine = workspace.local();
             mine.load(order.data() + starts[b], starts[b + 1] - starts[b]);
-            mine.run(pass == 0, kept[b]);
+            mine.run(pass == 0, first_slot[b]);
         });
-        for (const auto& list : kept) // the first pass's vertices that only one block had
-            for (const PlaneSums& p : list) s.slot[p.vertex] = std::uint32_t(s.stored.size()), s.stored.push_back(p);
         if (pass + 1 == passes) break;
         const auto touches = [&](std::size_t f) {
             return s.face_alive[f] && (held[s.faces[f][0]] || held[s.faces[f][1]] || held[s.faces[f][2]]);
