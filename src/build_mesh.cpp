@@ -205,6 +205,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     }
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
+    r.host_grid_bytes = grid.host_bytes();
     if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +

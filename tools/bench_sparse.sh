@@ -16,7 +16,7 @@ file=out/bench/deck-$points-scan.las
 t_cat=$(best cat "$file")
 echo "machine: $(nproc) cores; device: $(build/lasmesh devices | head -1 | xargs); cat $(printf %.2f "$t_cat") s for $(( $(stat -c %s "$file") / 1000000 )) MB"
 echo
-echo "| grid | cell m | occupied cells | bricks | grid MB | read+acc s | extract s | total s | total/cat | peak RSS MB | triangles | DRC MB |"
+echo "| grid | cell m | occupied cells | bricks | grid MB device / host | read+acc s | extract s | total s | total/cat | peak RSS MB | triangles | DRC MB |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for grid in "${grids[@]}"; do
   base=out/bench/sparse-$points-$grid
@@ -26,7 +26,7 @@ import json, sys
 r, cat = json.load(open(sys.argv[1])), float(sys.argv[2])
 s, g = r["seconds"], r["sparse_grid"]
 print(f"| {r['grid']['dims'][0]} | {r['grid']['cell_size']:.4f} | {g['occupied_cells']} | {g['occupied_bricks']} | "
-      f"{g['pool_bytes'] / 1e6:.0f} | {s['read_accumulate']:.2f} | {s['extract']:.2f} | {s['total']:.2f} | "
+      f"{g['pool_bytes'] / 1e6:.0f} / {g['host_grid_bytes'] / 1e6:.0f} | {s['read_accumulate']:.2f} | {s['extract']:.2f} | {s['total']:.2f} | "
       f"{s['total'] / cat:.1f} | {r['peak_rss_bytes'] / 1e6:.0f} | {r['triangles']} | {r['outputs'][0]['bytes'] / 1e6:.2f} |")
 PY
 done

@@ -39,7 +39,7 @@ void write_report_json(const RunReport& r, const std::string& path) {
     json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
     json["placement"] = placement_name(r.placement);
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
-                           {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}};
+                           {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}, {"host_grid_bytes", r.host_grid_bytes}};
     json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
     json["simplify"] = {{"triangles_before", r.simplify.triangles_before}, {"triangles_after", r.simplify.triangles_after},
                         {"error", r.simplify.error}, {"seconds", r.simplify.seconds}};
@@ -72,7 +72,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
                                                       : "closed, vertices on the surface")
             << "\n"
             << "occupied       " << r.occupied_cells << " cells in " << r.occupied_bricks << " bricks of "
-            << DensityGrid::brick_cells << ", " << format_double(r.pool_bytes / 1e6) << " MB of grid\n"
+            << DensityGrid::brick_cells << ", " << format_double(r.pool_bytes / 1e6) << " MB of grid on the device, "
+            << format_double(r.host_grid_bytes / 1e6) << " MB on the host\n"
             << "origin         " << format_double(r.origin[0]) << " " << format_double(r.origin[1]) << " "
             << format_double(r.origin[2]) << " (output positions are relative to it)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
