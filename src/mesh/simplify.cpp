@@ -134,18 +134,26 @@ struct Shared {
 // vertex) and simplifies it. Reused from block to block, so its buffers are allocated once.
 class Block {
 public:
-    explicit Block(Shared& s) : s_(s), local_(s.locked.size()), seen_(s.locked.size(), 0) {}
+    explicit Block(Shared& s) : s_(s) {}
 
     void load(const std::uint32_t* face_ids, std::size_t count) {
-        ++mark_; // seen_[g] == mark_: g has a local number in this block, local_[g]
+        // Local numbers through a hash table sized for the block (open addressing, linear
+        // probing): a table per thread over every vertex of the mesh took 8 bytes a vertex a
+        // thread (0.4 GB on 2 threads for 25M vertices).
+        int bits = 4;
+        while ((std::size_t{1} << bits) < 6 * count) ++bits;
+        const std::size_t mask = (std::size_t{1} << bits) - 1;
+        table_.assign(mask + 1, {empty_slot, 0});
         global_face_.assign(face_ids, face_ids + count);
         global_.clear();
         face_.resize(count);
         for (std::size_t f = 0; f < count; ++f)
             for (int k = 0; k < 3; ++k) { // local numbers in order of first use: the same in any thread
                 const std::uint32_t g = s_.faces[global_face_[f]][k];
-                if (seen_[g] != mark_) seen_[g] = mark_, local_[g] = std::uint32_t(global_.size()), global_.push_back(g);
-                face_[f][k] = local_[g];
+                std::size_t h = static_cast<std::size_t>((std::uint64_t{g} * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+                while (table_[h].first != empty_slot && table_[h].first != g) h = (h + 1) & mask;
+                if (table_[h].first == empty_slot) table_[h] = {g, std::uint32_t(global_.size())}, global_.push_back(g);
+                face_[f][k] = table_[h].second;
             }
         const std::size_t n = global_.size();
         position_.resize(n);
@@ -498,8 +506,8 @@ private:
     std::vector<Quadric> quadric_;
     std::vector<double> weight_;
     std::vector<Entry> heap_; // a heap: std::push_heap, std::pop_heap
-    std::vector<std::uint32_t> local_, seen_;
-    std::uint32_t mark_ = 0;
+    static constexpr std::uint32_t empty_slot = std::numeric_limits<std::uint32_t>::max(); // no vertex has this number
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> table_; // (global vertex, local number)
     std::vector<Neighbour> around_, around_u_, around_v_;
     std::vector<std::uint32_t> opposite_, tag_, slot_, parent_, ring_;
     std::uint32_t tag_now_ = 0, ring_now_ = 0;
@@ -682,6 +690,10 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     for (std::size_t f = 0; f < nf; ++f)
         if (s.face_alive[f]) mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
     mesh.triangles.resize(kept);
+    // What the passes held goes before the clean-up takes its own.
+    s.stored.reset();
+    workspace.clear();
+    for (std::vector<std::uint32_t>* v : {&s.slot, &owner, &order}) std::vector<std::uint32_t>().swap(*v);
     remove_unused_vertices(mesh);
     // A kept normal can end up facing away from the larger faces now around its vertex: there it
     // becomes theirs, as viewers shade by it.
