@@ -253,10 +253,12 @@ inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
 }
 
 inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
-    // More than 19 bits are sent as a low 16-bit part, then the rest.
+    // More than 19 bits are sent as a low 16-bit part, then the rest (at most 16 bits). Written
+    // without recursion so that it inlines: a call that takes the decoder's address would keep
+    // the caller's local copy of the decoder in memory instead of registers.
     if (bits > 19) {
         const std::uint32_t low = read_short_bits(16);
-        return (read_bits(bits - 16) << 16) | low;
+        return (read_short_bits(bits - 16) << 16) | low;
     }
     return read_short_bits(bits);
 }
