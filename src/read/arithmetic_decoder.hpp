@@ -163,6 +163,60 @@ struct Median5 {
     void add(std::int32_t x);
 };
 
+// Inline, like the decoder below: called twice per point.
+inline void Median5::add(std::int32_t x) {
+    // Five sorted values; alternately drop the largest or the smallest, so the middle one
+    // follows the recent values.
+    if (high) {
+        if (x < v[2]) {
+            v[4] = v[3];
+            v[3] = v[2];
+            if (x < v[0]) {
+                v[2] = v[1];
+                v[1] = v[0];
+                v[0] = x;
+            } else if (x < v[1]) {
+                v[2] = v[1];
+                v[1] = x;
+            } else {
+                v[2] = x;
+            }
+        } else {
+            if (x < v[3]) {
+                v[4] = v[3];
+                v[3] = x;
+            } else {
+                v[4] = x;
+            }
+            high = false;
+        }
+    } else {
+        if (v[2] < x) {
+            v[0] = v[1];
+            v[1] = v[2];
+            if (v[4] < x) {
+                v[2] = v[3];
+                v[3] = v[4];
+                v[4] = x;
+            } else if (v[3] < x) {
+                v[2] = v[3];
+                v[3] = x;
+            } else {
+                v[2] = x;
+            }
+        } else {
+            if (v[1] < x) {
+                v[0] = v[1];
+                v[1] = x;
+            } else {
+                v[0] = x;
+            }
+            high = true;
+        }
+    }
+}
+
+
 // The per-value functions are inline: the item decoders call them a dozen times per point.
 
 inline SymbolModel& IntegerDecoder::bits_model(std::uint32_t context) {
