@@ -329,19 +329,25 @@ inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
         c = dec.decode_symbol(corrector(k_));
         c = (c << low_bits) | dec.read_bits(low_bits);
     }
-    // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k].
-    const std::int64_t half = std::int64_t{1} << (k_ - 1);
-    std::int64_t v = c;
-    v = v >= half ? v + 1 : v - (2 * half - 1);
-    return static_cast<std::int32_t>(v);
+    // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k]: c (below 2^k) at or above
+    // 2^(k-1) is c + 1, below it c + 1 - 2^k; modulo 2^32, as the int32 result wraps (k = 31).
+    // The sign of a correction is a coin flip, so it is selected with a mask: GCC compiled the
+    // equivalent conditional expression into a branch.
+    const std::uint32_t half = 1u << (k_ - 1);
+    const std::uint32_t lower = 0u - (c < half ? 1u : 0u);
+    return static_cast<std::int32_t>(c + 1u - ((half << 1) & lower));
 }
 
 [[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
     const std::int32_t corr = read_corrector(dec, bits_model(context));
-    std::int32_t real = static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr));
-    if (real < 0) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) + corr_range_);
-    else if (static_cast<std::uint32_t>(real) >= corr_range_) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) - corr_range_);
-    return real;
+    // Back into [0, range): below 0 add the range, at or above it subtract it (range 0 for 32-bit
+    // values, which wrap by themselves). With masks: the sign of a sum is a coin flip for the
+    // branch predictor.
+    std::uint32_t real = static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr);
+    const std::uint32_t below = 0u - (real >> 31);
+    const std::uint32_t above = (0u - (real >= corr_range_ ? 1u : 0u)) & ~below;
+    real += (corr_range_ & below) - (corr_range_ & above);
+    return static_cast<std::int32_t>(real);
 }
 
 } // namespace lasmesh::laz
