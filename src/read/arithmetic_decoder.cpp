@@ -48,6 +48,7 @@ SymbolModel::SymbolModel(std::uint32_t n) {
     const SymbolModel& f = *it;
     distribution = table = counts = nullptr;
     table_shift = f.table_shift, table_last = f.table_last, last_symbol = f.last_symbol, likely = f.likely;
+    likely_low = f.likely_low, likely_high = f.likely_high;
     symbols_until_update = f.symbols_until_update, symbols = f.symbols, total_count = f.total_count;
     update_cycle = f.update_cycle;
     const std::size_t size = storage_size();
@@ -80,6 +81,8 @@ void SymbolModel::update() {
     }
     tab[0] = 0;
     while (t <= table_last) tab[++t] = symbols - 1;
+    likely_low = d[likely];
+    likely_high = d[likely + 1]; // the sentinel for the last symbol (unused: its interval ends at the length)
     update_cycle = (5 * update_cycle) >> 2;
     const std::uint32_t max_cycle = (symbols + 6) << 3;
     if (update_cycle > max_cycle) update_cycle = max_cycle;

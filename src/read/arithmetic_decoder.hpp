@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -50,6 +51,9 @@ public:
     std::uint32_t table_last = 0; // largest table index a (corrupt) value may use
     std::uint32_t last_symbol = 0;
     std::uint32_t likely = 0; // the symbol with the largest count
+    // d[likely] and d[likely + 1], kept beside it: the first guess then needs no load that
+    // depends on another (model -> distribution -> entry), which put 4-5 cycles on every symbol.
+    std::uint32_t likely_low = 0, likely_high = 0;
     std::uint32_t symbols_until_update = 0;
     std::uint32_t symbols = 0;
     std::uint32_t total_count = 0;
@@ -147,12 +151,15 @@ private:
     std::int32_t corr_min_;
     std::uint32_t k_ = 0;
     // Models are made on first use: most contexts and bit lengths never occur in a chunk, and
-    // small chunks (COPC nodes) would otherwise spend their time building them.
+    // small chunks (COPC nodes) would otherwise spend their time building them. They are held in
+    // place, not behind a pointer: which model comes next depends on the symbol just decoded
+    // (the bit length k, or X's k as Y's context), and a pointer to load first put another
+    // dependent load on that path.
     SymbolModel& bits_model(std::uint32_t context);
     SymbolModel& corrector(std::uint32_t k);
-    std::vector<std::unique_ptr<SymbolModel>> bits_models_; // one per context
+    std::vector<std::optional<SymbolModel>> bits_models_; // one per context
     BitModel corrector0_;
-    std::vector<std::unique_ptr<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
+    std::vector<std::optional<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
 };
 
 // Streaming median of the last five values: the predictor of X and Y differences.
@@ -221,13 +228,13 @@ inline void Median5::add(std::int32_t x) {
 
 inline SymbolModel& IntegerDecoder::bits_model(std::uint32_t context) {
     auto& m = bits_models_[context];
-    if (!m) m = std::make_unique<SymbolModel>(corr_bits_ + 1);
+    if (!m) m.emplace(corr_bits_ + 1);
     return *m;
 }
 
 inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k) {
     auto& m = correctors_[k - 1];
-    if (!m) m = std::make_unique<SymbolModel>(k <= bits_high_ ? 1u << k : 1u << bits_high_);
+    if (!m) m.emplace(k <= bits_high_ ? 1u << k : 1u << bits_high_);
     return *m;
 }
 
@@ -262,8 +269,8 @@ inline std::uint32_t ArithmeticDecoder::search(const std::uint32_t* d, std::uint
     // branch mostly goes the same way for a skewed model and the decoding runs ahead on it.
     const std::uint32_t g = m.likely;
     std::uint32_t s = g;
-    std::uint32_t x = d[g] * unit;
-    std::uint32_t y = g == m.last_symbol ? length_ : d[g + 1] * unit;
+    std::uint32_t x = m.likely_low * unit;
+    std::uint32_t y = g == m.last_symbol ? length_ : m.likely_high * unit;
     if (value_ - x >= y - x) {
         // One division gives the quotient; comparing it with d[k] decides exactly what
         // comparing value with unit * d[k] would (no product overflows 32 bits).
