@@ -83,6 +83,15 @@ void SymbolModel::update() {
     while (t <= table_last) tab[++t] = symbols - 1;
     likely_low = d[likely];
     likely_high = d[likely + 1]; // the sentinel for the last symbol (unused: its interval ends at the length)
+    // A first guess right less than 40% of the time costs more in mispredicted branches than it
+    // saves in divisions (measured: format 3 +3-4% with this cut against none; 50% and 30%
+    // did less well): such a model gets the empty interval [0, 0) as its guess, which never
+    // holds the value, so decode_symbol always takes the division and its branch stays
+    // predictable. likely = 0 is not the last symbol (there are at least two).
+    if (5 * std::uint64_t{most} < 2 * std::uint64_t{sum}) {
+        likely = 0;
+        likely_low = likely_high = 0;
+    }
     update_cycle = (5 * update_cycle) >> 2;
     const std::uint32_t max_cycle = (symbols + 6) << 3;
     if (update_cycle > max_cycle) update_cycle = max_cycle;

@@ -50,7 +50,8 @@ public:
     std::uint32_t table_shift = 0;
     std::uint32_t table_last = 0; // largest table index a (corrupt) value may use
     std::uint32_t last_symbol = 0;
-    std::uint32_t likely = 0; // the symbol with the largest count
+    std::uint32_t likely = 0; // the symbol with the largest count (0 with an empty interval
+                              // when that is under 40% likely: see update())
     // d[likely] and d[likely + 1], kept beside it: the first guess then needs no load that
     // depends on another (model -> distribution -> entry), which put 4-5 cycles on every symbol.
     std::uint32_t likely_low = 0, likely_high = 0;
