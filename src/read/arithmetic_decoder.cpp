@@ -27,13 +27,13 @@ SymbolModel::SymbolModel(std::uint32_t n, Fresh) : last_symbol(n - 1), symbols(n
     while (table_bits < 8 && (1u << table_bits) < n) ++table_bits;
     table_shift = sym_length_shift - table_bits;
     table_last = 1u << table_bits;
-    storage_ = std::make_unique_for_overwrite<std::uint32_t[]>(storage_size());
-    std::uint32_t* d = storage_.get();
-    d[n] = d[n + 1] = 0xFFFFFFFFu; // no scaled value (at most 2^23) reaches them
+    storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(storage_size());
+    std::uint16_t* d = storage_.get();
+    d[n] = d[n + 1] = 0xFFFF; // no scaled value (cut to 2^15 in decode_symbol) reaches them
     distribution = d;
     table = d + n + 2;
     counts = d + n + 2 + table_last + 2;
-    std::fill(counts, counts + n, 1u);
+    std::fill(counts, counts + n, std::uint16_t{1});
     update();
     update_cycle = symbols_until_update = (n + 6) >> 1;
 }
@@ -52,8 +52,8 @@ SymbolModel::SymbolModel(std::uint32_t n) {
     symbols_until_update = f.symbols_until_update, symbols = f.symbols, total_count = f.total_count;
     update_cycle = f.update_cycle;
     const std::size_t size = storage_size();
-    storage_ = std::make_unique_for_overwrite<std::uint32_t[]>(size);
-    std::uint32_t* d = storage_.get();
+    storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(size);
+    std::uint16_t* d = storage_.get();
     std::copy(f.storage_.get(), f.storage_.get() + size, d);
     distribution = d;
     table = d + (f.table - f.distribution);
@@ -64,26 +64,26 @@ void SymbolModel::update() {
     total_count += update_cycle;
     if (total_count > sym_max_count) {
         total_count = 0;
-        for (std::uint32_t k = 0; k < symbols; ++k) total_count += (counts[k] = (counts[k] + 1) >> 1);
+        for (std::uint32_t k = 0; k < symbols; ++k) total_count += (counts[k] = static_cast<std::uint16_t>((counts[k] + 1) >> 1));
     }
     const std::uint32_t scale = 0x80000000u / total_count;
-    std::uint32_t* d = storage_.get();
-    std::uint32_t* tab = d + symbols + 2;
+    std::uint16_t* d = storage_.get();
+    std::uint16_t* tab = d + symbols + 2;
     // tab[t] = the last symbol whose interval starts before bucket t's start (t << shift) or at
     // it, so d[tab[t]] <= any value in bucket t < d[tab[t + 1] + 1]. That is the number of
     // symbols k >= 1 with d[k] >> shift < t (d increases): each k is stored at its bucket + 1
     // (a later k of the same bucket overwrites an earlier one), then a running maximum fills the
     // buckets between. Without branches: filling bucket by bucket as symbols came mispredicted
     // about 20 times per update.
-    std::fill(tab, tab + table_last + 2, 0u);
+    std::fill(tab, tab + table_last + 2, std::uint16_t{0});
     std::uint32_t sum = 0, most = 0;
     for (std::uint32_t k = 0; k < symbols; ++k) {
-        d[k] = (scale * sum) >> (31 - sym_length_shift);
+        d[k] = static_cast<std::uint16_t>((scale * sum) >> (31 - sym_length_shift)); // below 2^15
         if (counts[k] > most) most = counts[k], likely = k;
         sum += counts[k];
-        tab[(d[k] >> table_shift) + 1] = k; // d[k] < 2^15: at most table_last; k = 0 goes to 1, harmless
+        tab[(d[k] >> table_shift) + 1] = static_cast<std::uint16_t>(k); // d[k] < 2^15: at most table_last; k = 0 goes to 1, harmless
     }
-    for (std::uint32_t t = 1, run = 0; t <= table_last + 1; ++t) tab[t] = run = std::max(run, tab[t]);
+    for (std::uint32_t t = 1, run = 0; t <= table_last + 1; ++t) tab[t] = static_cast<std::uint16_t>(run = std::max<std::uint32_t>(run, tab[t]));
     likely_low = d[likely];
     likely_high = d[likely + 1]; // the sentinel for the last symbol (unused: its interval ends at the length)
     // A first guess right less than 40% of the time costs more in mispredicted branches than it
