@@ -64,7 +64,8 @@ void SymbolModel::update() {
     total_count += update_cycle;
     if (total_count > sym_max_count) {
         total_count = 0;
-        for (std::uint32_t k = 0; k < symbols; ++k) total_count += (counts[k] = static_cast<std::uint16_t>((counts[k] + 1) >> 1));
+        for (std::uint32_t k = 0; k < symbols; ++k)
+            total_count += (counts[k] = static_cast<std::uint16_t>((counts[k] + 1) >> 1));
     }
     const std::uint32_t scale = 0x80000000u / total_count;
     std::uint16_t* d = storage_.get();
@@ -81,16 +82,18 @@ void SymbolModel::update() {
         d[k] = static_cast<std::uint16_t>((scale * sum) >> (31 - sym_length_shift)); // below 2^15
         if (counts[k] > most) most = counts[k], likely = k;
         sum += counts[k];
-        tab[(d[k] >> table_shift) + 1] = static_cast<std::uint16_t>(k); // d[k] < 2^15: at most table_last; k = 0 goes to 1, harmless
+        // d[k] < 2^15, so the index is at most table_last; k = 0 goes to 1, harmlessly.
+        tab[(d[k] >> table_shift) + 1] = static_cast<std::uint16_t>(k);
     }
-    for (std::uint32_t t = 1, run = 0; t <= table_last + 1; ++t) tab[t] = static_cast<std::uint16_t>(run = std::max<std::uint32_t>(run, tab[t]));
+    for (std::uint32_t t = 1, run = 0; t <= table_last + 1; ++t)
+        tab[t] = static_cast<std::uint16_t>(run = std::max<std::uint32_t>(run, tab[t]));
     likely_low = d[likely];
     likely_high = d[likely + 1]; // the sentinel for the last symbol (unused: its interval ends at the length)
     // A first guess right less than 40% of the time costs more in mispredicted branches than it
-    // saves in divisions (measured: format 3 +3-4% with this cut against none; 50% and 30%
-    // did less well): such a model gets the empty interval [0, 0) as its guess, which never
-    // holds the value, so decode_symbol always takes the division and its branch stays
-    // predictable. likely = 0 is not the last symbol (there are at least two).
+    // saves in divisions (measured: format 3 +3-4% with this cut against none; 50% and 25% did
+    // less well, 30% about the same): such a model gets the empty interval [0, 0) as its guess,
+    // which never holds the value, so decode_symbol always takes the division and its branch
+    // stays predictable. likely = 0 is not the last symbol (there are at least two).
     if (5 * std::uint64_t{most} < 2 * std::uint64_t{sum}) {
         likely = 0;
         likely_low = likely_high = 0;
