@@ -63,6 +63,7 @@ private:
         void resize_for_overwrite(std::size_t n) { // keeps no old contents
             if (n > capacity_) {
                 data_.reset(); // the old block goes before the new one comes
+                capacity_ = size_ = 0; // (stays consistent if the allocation throws)
                 data_ = std::make_unique_for_overwrite<std::byte[]>(n);
                 capacity_ = n;
             }
