@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -34,7 +35,11 @@ struct BitModel {
 // is the decoder's own search aid (finer than the one the format's description suggests, so
 // that most look-ups land on one or two candidate symbols); only the distribution and counts
 // are defined by the format.
-// Distribution, table and counts share one allocation.
+// Distribution, table and counts share one allocation, in 16-bit entries: the distribution is
+// below 2^15, symbols number at most 516, and a count stays below 2^15 plus twice the longest
+// update cycle (8 * (516 + 6)), under 2^16. Half the bytes of 32-bit entries: the models a
+// format-3 point touches (up to 3 KB each for 256 symbols, dozens of them) overflowed the 48 KB
+// L1 cache about 3 times per point (cachegrind).
 class SymbolModel {
 public:
     explicit SymbolModel(std::uint32_t symbols);
@@ -42,14 +47,18 @@ public:
     SymbolModel& operator=(SymbolModel&&) noexcept = default;
     void update();
 
-    const std::uint32_t* distribution = nullptr; // symbols + 2 entries; the last two are
-                                                 // sentinels no scaled value reaches
-    const std::uint32_t* table = nullptr;        // table_last + 2 entries
-    std::uint32_t* counts = nullptr;
+    const std::uint16_t* distribution = nullptr; // symbols + 2 entries; the last two are
+                                                 // sentinels (0xFFFF) no scaled value reaches
+    const std::uint16_t* table = nullptr;        // table_last + 2 entries
+    std::uint16_t* counts = nullptr;
     std::uint32_t table_shift = 0;
     std::uint32_t table_last = 0; // largest table index a (corrupt) value may use
     std::uint32_t last_symbol = 0;
-    std::uint32_t likely = 0; // the symbol with the largest count
+    std::uint32_t likely = 0; // the symbol with the largest count (0 with an empty interval
+                              // when that is under 40% likely: see update())
+    // d[likely] and d[likely + 1], kept beside it: the first guess then needs no load that
+    // depends on another (model -> distribution -> entry), which put 4-5 cycles on every symbol.
+    std::uint32_t likely_low = 0, likely_high = 0;
     std::uint32_t symbols_until_update = 0;
     std::uint32_t symbols = 0;
     std::uint32_t total_count = 0;
@@ -59,7 +68,15 @@ private:
     struct Fresh {};
     SymbolModel(std::uint32_t symbols, Fresh); // builds it
     std::size_t storage_size() const { return 2 * std::size_t{symbols} + 2 + table_last + 2; }
-    std::unique_ptr<std::uint32_t[]> storage_;
+    // Hands the block of a dropped model to the next model of its size on this thread: a COPC
+    // chunk of a few points builds and drops dozens of models, and malloc and free took a
+    // quarter of its time.
+    struct Recycle {
+        std::size_t size; // (no initializer: with one, GCC cannot default-construct it inside the class)
+        void operator()(std::uint16_t* block) const;
+    };
+    static std::unique_ptr<std::uint16_t[], Recycle> allocate(std::size_t size);
+    std::unique_ptr<std::uint16_t[], Recycle> storage_;
 };
 
 // A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
@@ -119,7 +136,7 @@ private:
         }
     }
     std::uint32_t read_short_bits(std::uint32_t bits); // up to 19 bits at once
-    static std::uint32_t search(const std::uint32_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n);
+    static std::uint32_t search(const std::uint16_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n);
 
     const std::byte* data_ = nullptr;
     std::size_t size_ = 0;
@@ -147,12 +164,15 @@ private:
     std::int32_t corr_min_;
     std::uint32_t k_ = 0;
     // Models are made on first use: most contexts and bit lengths never occur in a chunk, and
-    // small chunks (COPC nodes) would otherwise spend their time building them.
+    // small chunks (COPC nodes) would otherwise spend their time building them. They are held in
+    // place, not behind a pointer: one allocation less per model (COPC +10%), and no pointer to
+    // load before a model chosen by the symbol just decoded (the bit length k, or X's k as Y's
+    // context); large chunks showed no change from that.
     SymbolModel& bits_model(std::uint32_t context);
     SymbolModel& corrector(std::uint32_t k);
-    std::vector<std::unique_ptr<SymbolModel>> bits_models_; // one per context
+    std::vector<std::optional<SymbolModel>> bits_models_; // one per context
     BitModel corrector0_;
-    std::vector<std::unique_ptr<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
+    std::vector<std::optional<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
 };
 
 // Streaming median of the last five values: the predictor of X and Y differences.
@@ -163,17 +183,70 @@ struct Median5 {
     void add(std::int32_t x);
 };
 
+// Inline, like the decoder below: called twice per point.
+inline void Median5::add(std::int32_t x) {
+    // Five sorted values; alternately drop the largest or the smallest, so the middle one
+    // follows the recent values.
+    if (high) {
+        if (x < v[2]) {
+            v[4] = v[3];
+            v[3] = v[2];
+            if (x < v[0]) {
+                v[2] = v[1];
+                v[1] = v[0];
+                v[0] = x;
+            } else if (x < v[1]) {
+                v[2] = v[1];
+                v[1] = x;
+            } else {
+                v[2] = x;
+            }
+        } else {
+            if (x < v[3]) {
+                v[4] = v[3];
+                v[3] = x;
+            } else {
+                v[4] = x;
+            }
+            high = false;
+        }
+    } else {
+        if (v[2] < x) {
+            v[0] = v[1];
+            v[1] = v[2];
+            if (v[4] < x) {
+                v[2] = v[3];
+                v[3] = v[4];
+                v[4] = x;
+            } else if (v[3] < x) {
+                v[2] = v[3];
+                v[3] = x;
+            } else {
+                v[2] = x;
+            }
+        } else {
+            if (v[1] < x) {
+                v[0] = v[1];
+                v[1] = x;
+            } else {
+                v[0] = x;
+            }
+            high = true;
+        }
+    }
+}
+
 // The per-value functions are inline: the item decoders call them a dozen times per point.
 
 inline SymbolModel& IntegerDecoder::bits_model(std::uint32_t context) {
     auto& m = bits_models_[context];
-    if (!m) m = std::make_unique<SymbolModel>(corr_bits_ + 1);
+    if (!m) m.emplace(corr_bits_ + 1);
     return *m;
 }
 
 inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k) {
     auto& m = correctors_[k - 1];
-    if (!m) m = std::make_unique<SymbolModel>(k <= bits_high_ ? 1u << k : 1u << bits_high_);
+    if (!m) m.emplace(k <= bits_high_ ? 1u << k : 1u << bits_high_);
     return *m;
 }
 
@@ -190,7 +263,7 @@ inline std::uint32_t ArithmeticDecoder::decode_bit(BitModel& m) {
     return bit;
 }
 
-inline std::uint32_t ArithmeticDecoder::search(const std::uint32_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n) {
+inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n) {
     while (n > s + 1) {
         const std::uint32_t k = (s + n) >> 1;
         if (d[k] > dv) n = k;
@@ -203,19 +276,22 @@ inline std::uint32_t ArithmeticDecoder::search(const std::uint32_t* d, std::uint
     // The symbol s is the one with d[s] * unit <= value < d[s + 1] * unit (d: the distribution,
     // unit: the interval length / 2^15; the last symbol's interval ends at the length).
     const std::uint32_t unit = length_ >> sym_length_shift;
-    const std::uint32_t* d = m.distribution;
+    const std::uint16_t* d = m.distribution;
     // First the model's most frequent symbol: two products and a compare, no division. The
     // branch mostly goes the same way for a skewed model and the decoding runs ahead on it.
     const std::uint32_t g = m.likely;
     std::uint32_t s = g;
-    std::uint32_t x = d[g] * unit;
-    std::uint32_t y = g == m.last_symbol ? length_ : d[g + 1] * unit;
+    std::uint32_t x = m.likely_low * unit;
+    std::uint32_t y = g == m.last_symbol ? length_ : m.likely_high * unit;
     if (value_ - x >= y - x) {
         // One division gives the quotient; comparing it with d[k] decides exactly what
         // comparing value with unit * d[k] would (no product overflows 32 bits).
-        const std::uint32_t dv = value_ / unit;
-        std::uint32_t t = dv >> m.table_shift;
-        t = t < m.table_last ? t : m.table_last; // beyond only on corrupt input
+        // Below 2^15 + 2^15 / unit as value < length; above 2^15 (the last symbol's, as
+        // d[last] < 2^15) it is cut to 2^15, and only corrupt input goes further: so the table
+        // index stays within the table and no sentinel (0xFFFF) is ever reached.
+        std::uint32_t dv = value_ / unit;
+        dv = dv < (1u << sym_length_shift) ? dv : 1u << sym_length_shift;
+        const std::uint32_t t = dv >> m.table_shift;
         // The table bounds s to [table[t], table[t + 1]]: mostly one or two candidates, decided
         // without a branch (their bounds loaded at once); a wider range (a bucket with several
         // rare symbols) is searched.
@@ -253,10 +329,12 @@ inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
 }
 
 inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
-    // More than 19 bits are sent as a low 16-bit part, then the rest.
+    // More than 19 bits are sent as a low 16-bit part, then the rest (at most 16 bits). Written
+    // without recursion so that it inlines: a call that takes the decoder's address would keep
+    // the caller's local copy of the decoder in memory instead of registers.
     if (bits > 19) {
         const std::uint32_t low = read_short_bits(16);
-        return (read_bits(bits - 16) << 16) | low;
+        return (read_short_bits(bits - 16) << 16) | low;
     }
     return read_short_bits(bits);
 }
@@ -273,19 +351,25 @@ inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
         c = dec.decode_symbol(corrector(k_));
         c = (c << low_bits) | dec.read_bits(low_bits);
     }
-    // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k].
-    const std::int64_t half = std::int64_t{1} << (k_ - 1);
-    std::int64_t v = c;
-    v = v >= half ? v + 1 : v - (2 * half - 1);
-    return static_cast<std::int32_t>(v);
+    // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k]: c (below 2^k) at or above
+    // 2^(k-1) is c + 1, below it c + 1 - 2^k; modulo 2^32, as the int32 result wraps (k = 31).
+    // The sign of a correction is a coin flip, so it is selected with a mask: GCC compiled the
+    // equivalent conditional expression into a branch.
+    const std::uint32_t half = 1u << (k_ - 1);
+    const std::uint32_t lower = 0u - (c < half ? 1u : 0u);
+    return static_cast<std::int32_t>(c + 1u - ((half << 1) & lower));
 }
 
 [[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
     const std::int32_t corr = read_corrector(dec, bits_model(context));
-    std::int32_t real = static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr));
-    if (real < 0) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) + corr_range_);
-    else if (static_cast<std::uint32_t>(real) >= corr_range_) real = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) - corr_range_);
-    return real;
+    // Back into [0, range): below 0 add the range, at or above it subtract it (range 0 for 32-bit
+    // values, which wrap by themselves). With masks: the sign of a sum is a coin flip for the
+    // branch predictor.
+    std::uint32_t real = static_cast<std::uint32_t>(prediction) + static_cast<std::uint32_t>(corr);
+    const std::uint32_t below = 0u - (real >> 31);
+    const std::uint32_t above = (0u - (real >= corr_range_ ? 1u : 0u)) & ~below;
+    real += (corr_range_ & below) - (corr_range_ & above);
+    return static_cast<std::int32_t>(real);
 }
 
 } // namespace lasmesh::laz

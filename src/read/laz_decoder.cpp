@@ -198,7 +198,7 @@ void LazDecoder::decode_pointwise_sequential() {
                 chunk_error(p.index, p.chunk, p.chunk.offset + carry_.size(),
                             "the input ends after " + std::to_string(carry_.size()) + " bytes, too few for " +
                                 std::to_string(p.chunk.points) + " points (truncated or corrupt)");
-            decoded_.resize(static_cast<std::size_t>(p.chunk.points) * length);
+            decoded_.resize_for_overwrite(static_cast<std::size_t>(p.chunk.points) * length);
         }
         try {
             const std::size_t used = decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data());
@@ -234,7 +234,7 @@ void LazDecoder::decode_next_batch() {
     const std::size_t length = format_.record_length;
     std::vector<std::size_t> first_record(batch.size() + 1, 0);
     for (std::size_t i = 0; i < batch.size(); ++i) first_record[i + 1] = first_record[i] + static_cast<std::size_t>(batch[i].chunk.points);
-    decoded_.resize(first_record.back() * length);
+    decoded_.resize_for_overwrite(first_record.back() * length);
     // Each chunk is independent (its models start fresh), so chunks decode in parallel; errors
     // are kept per chunk and the first one in file order is reported, whatever the timing.
     std::vector<std::optional<ChunkError>> errors(batch.size());
