@@ -5,64 +5,6 @@
 
 namespace lasmesh::laz {
 
-namespace {
-
-// Free model blocks of this thread, by size (a dozen sizes occur). A model dropped on another
-// thread than the one that made it just leaves its block to that thread's pool. Bounded, so a
-// thread keeps at most max_kept blocks of a size (a few hundred KB in all).
-struct BlockPool {
-    static constexpr std::size_t max_kept = 64;
-    struct Size {
-        std::size_t size;
-        std::vector<std::uint16_t*> blocks;
-    };
-    std::vector<Size> sizes;
-    ~BlockPool();
-    std::vector<std::uint16_t*>& of(std::size_t size) {
-        for (Size& s : sizes)
-            if (s.size == size) return s.blocks;
-        return sizes.emplace_back(Size{size, {}}).blocks;
-    }
-};
-// Trivially destructible, so it can still be read while thread-local objects are destroyed:
-// models destroyed after the pool (another thread-local's) free their blocks directly.
-thread_local bool pool_alive = false;
-BlockPool& pool() {
-    thread_local BlockPool p;
-    pool_alive = true;
-    return p;
-}
-BlockPool::~BlockPool() {
-    pool_alive = false;
-    for (Size& s : sizes)
-        for (std::uint16_t* b : s.blocks) delete[] b;
-}
-
-} // namespace
-
-std::unique_ptr<std::uint16_t[], SymbolModel::Recycle> SymbolModel::allocate(std::size_t size) {
-    std::vector<std::uint16_t*>& free = pool().of(size);
-    std::uint16_t* block;
-    if (free.empty()) {
-        block = new std::uint16_t[size]; // not zeroed: every entry is written before it is read
-    } else {
-        block = free.back();
-        free.pop_back();
-    }
-    return std::unique_ptr<std::uint16_t[], Recycle>(block, Recycle{size});
-}
-
-void SymbolModel::Recycle::operator()(std::uint16_t* block) const {
-    if (pool_alive) {
-        std::vector<std::uint16_t*>& free = pool().of(size);
-        if (free.size() < BlockPool::max_kept) {
-            free.push_back(block);
-            return;
-        }
-    }
-    delete[] block;
-}
-
 
 void BitModel::update() {
     bit_count += update_cycle;
@@ -85,7 +27,7 @@ SymbolModel::SymbolModel(std::uint32_t n, Fresh) : last_symbol(n - 1), symbols(n
     while (table_bits < 8 && (1u << table_bits) < n) ++table_bits;
     table_shift = sym_length_shift - table_bits;
     table_last = 1u << table_bits;
-    storage_ = allocate(storage_size());
+    storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(storage_size());
     std::uint16_t* d = storage_.get();
     d[n] = d[n + 1] = 0xFFFF; // no scaled value (cut to 2^15 in decode_symbol) reaches them
     distribution = d;
@@ -110,7 +52,7 @@ SymbolModel::SymbolModel(std::uint32_t n) {
     symbols_until_update = f.symbols_until_update, symbols = f.symbols, total_count = f.total_count;
     update_cycle = f.update_cycle;
     const std::size_t size = storage_size();
-    storage_ = allocate(size);
+    storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(size);
     std::uint16_t* d = storage_.get();
     std::copy(f.storage_.get(), f.storage_.get() + size, d);
     distribution = d;

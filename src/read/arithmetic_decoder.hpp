@@ -68,15 +68,7 @@ private:
     struct Fresh {};
     SymbolModel(std::uint32_t symbols, Fresh); // builds it
     std::size_t storage_size() const { return 2 * std::size_t{symbols} + 2 + table_last + 2; }
-    // Hands the block of a dropped model to the next model of its size on this thread: a COPC
-    // chunk of a few points builds and drops dozens of models, and malloc and free took a
-    // quarter of its time.
-    struct Recycle {
-        std::size_t size; // (no initializer: with one, GCC cannot default-construct it inside the class)
-        void operator()(std::uint16_t* block) const;
-    };
-    static std::unique_ptr<std::uint16_t[], Recycle> allocate(std::size_t size);
-    std::unique_ptr<std::uint16_t[], Recycle> storage_;
+    std::unique_ptr<std::uint16_t[]> storage_;
 };
 
 // A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
