@@ -543,22 +543,20 @@ void cut_into_blocks(const Shared& s, const std::vector<char>& active, const V3&
     std::array<std::uint64_t, 3> dims{};
     for (int a = 0; a < 3; ++a) dims[a] = std::uint64_t((hi[a] - lo[a]) / edge + shift) + 1;
     const std::size_t n = s.faces.size();
-    std::vector<std::uint32_t> key(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t f = range.begin(); f < range.end(); ++f) {
-            if (!s.face_alive[f] || !active[f]) continue;
-            std::uint64_t k = 0;
-            for (int a = 2; a >= 0; --a) {
-                const double c = (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) / 3;
-                k = k * dims[a] + std::min<std::uint64_t>(dims[a] - 1, std::uint64_t(std::max(0.0, (c - lo[a]) / edge + shift)));
-            }
-            key[f] = std::uint32_t(k);
+    // The block of face f, worked out twice (to count, then to place) rather than kept: 4 bytes a
+    // face at the simplifier's peak.
+    const auto key = [&](std::size_t f) {
+        std::uint64_t k = 0;
+        for (int a = 2; a >= 0; --a) {
+            const double c = (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) / 3;
+            k = k * dims[a] + std::min<std::uint64_t>(dims[a] - 1, std::uint64_t(std::max(0.0, (c - lo[a]) / edge + shift)));
         }
-    });
+        return k;
+    };
     const std::uint64_t blocks = dims[0] * dims[1] * dims[2];
     std::vector<std::size_t> count(blocks + 1, 0);
     for (std::size_t f = 0; f < n; ++f)
-        if (s.face_alive[f] && active[f]) ++count[key[f] + 1];
+        if (s.face_alive[f] && active[f]) ++count[key(f) + 1];
     for (std::size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
     order.resize(count[blocks]);
     starts.clear();
@@ -566,7 +564,7 @@ void cut_into_blocks(const Shared& s, const std::vector<char>& active, const V3&
         if (count[b + 1] > count[b]) starts.push_back(count[b]);
     starts.push_back(order.size());
     for (std::size_t f = 0; f < n; ++f)
-        if (s.face_alive[f] && active[f]) order[count[key[f]]++] = std::uint32_t(f);
+        if (s.face_alive[f] && active[f]) order[count[key(f)]++] = std::uint32_t(f);
 }
 
 } // namespace
@@ -621,13 +619,12 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     // Later passes take only the faces near the vertices the pass before held (around them, and
     // around their neighbours): elsewhere the blocks have done what they could.
     std::vector<char> active(nf, 1), held(nv, 0);
-    std::vector<std::uint32_t> owner(nv);
     constexpr std::uint32_t nobody = std::numeric_limits<std::uint32_t>::max();
     constexpr int passes = 3;
     for (int pass = 0; pass < passes && block_edge > 0; ++pass) {
         cut_into_blocks(s, active, lo, hi, block_edge, pass % 2 ? 0.5 : 0.0, order, starts);
         const std::size_t blocks = starts.size() - 1;
-        std::fill(owner.begin(), owner.end(), nobody);
+        std::vector<std::uint32_t> owner(nv, nobody); // the first block to use each vertex (released before the blocks run)
         std::fill(held.begin(), held.end(), 0);
         for (std::size_t b = 0; b < blocks; ++b)
             for (std::size_t i = starts[b]; i < starts[b + 1]; ++i)
@@ -662,6 +659,7 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
             }
             for (std::uint32_t i = 0; i < shared; ++i) unit_normal(s.stored[i].reference);
         }
+        std::vector<std::uint32_t>().swap(owner);
         tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
             Block& mine = workspace.local();
             mine.load(order.data() + starts[b], starts[b + 1] - starts[b]);
@@ -693,7 +691,7 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     // What the passes held goes before the clean-up takes its own.
     s.stored.reset();
     workspace.clear();
-    for (std::vector<std::uint32_t>* v : {&s.slot, &owner, &order}) std::vector<std::uint32_t>().swap(*v);
+    for (std::vector<std::uint32_t>* v : {&s.slot, &order}) std::vector<std::uint32_t>().swap(*v);
     remove_unused_vertices(mesh);
     // A kept normal can end up facing away from the larger faces now around its vertex: there it
     // becomes theirs, as viewers shade by it.
