@@ -111,22 +111,20 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
     g.brick_index.assign(std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2], 0);
     // Brick by brick in ascending order, each brick's occupied cells in the order of their bits.
     for (std::uint64_t key = 0; key < g.brick_index.size(); ++key) {
-        std::uint64_t mask = 0;
-        const std::uint64_t first = g.cells.size();
+        std::array<lasmesh::CellSums, DensityGrid::brick_cells> brick{};
         for (unsigned bit = 0; bit < DensityGrid::brick_cells; ++bit) {
             const auto c = g.cell_in_brick(key, bit);
             if (c[0] >= std::int64_t{spec.dims[0]} || c[1] >= std::int64_t{spec.dims[1]} || c[2] >= std::int64_t{spec.dims[2]}) continue;
             const std::uint64_t index = (std::uint64_t(c[2]) * spec.dims[1] + std::uint64_t(c[1])) * spec.dims[0] + std::uint64_t(c[0]);
-            if (count[index] == 0) continue;
-            mask |= std::uint64_t{1} << bit;
-            lasmesh::CellSums cell;
+            lasmesh::CellSums& cell = brick[bit];
             cell.count = count[index];
             for (int a = 0; a < 3; ++a) // every point at the cell's centre
                 cell.position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[std::size_t(c[a]) + 1] - g.axes[a].starts[std::size_t(c[a])]) / 2);
             if (g.color) cell.color = {red[index], green[index], blue[index]};
             g.points_read += count[index];
-            g.cells.push_back(cell);
         }
+        const std::uint64_t first = g.cells.size();
+        const std::uint64_t mask = g.append_occupied(brick);
         if (mask == 0) continue;
         g.brick_keys.push_back(key);
         g.brick_index[key] = static_cast<std::uint32_t>(g.brick_keys.size());

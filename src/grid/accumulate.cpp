@@ -348,13 +348,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                     }
                     const std::uint64_t b = position_of_slot[slot];
                     out.brick_first[b] = out.cells.size();
-                    std::uint64_t mask = 0;
-                    for (std::size_t k = 0; k < brick.size(); ++k)
-                        if (brick[k].count > 0) {
-                            mask |= std::uint64_t{1} << k;
-                            out.cells.push_back(brick[k]);
-                        }
-                    out.brick_masks[b] = mask;
+                    out.brick_masks[b] = out.append_occupied(brick);
                 }
             }
             chunks[c] = cl::Buffer();

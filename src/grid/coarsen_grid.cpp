@@ -77,13 +77,7 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
         coarse.brick_keys.push_back(key);
         coarse.brick_index[key] = static_cast<std::uint32_t>(coarse.brick_keys.size());
         coarse.brick_first.push_back(coarse.cells.size());
-        std::uint64_t mask = 0;
-        for (std::size_t k = 0; k < sums.size(); ++k)
-            if (sums[k].count > 0) {
-                mask |= std::uint64_t{1} << k;
-                coarse.cells.push_back(sums[k]);
-            }
-        coarse.brick_masks.push_back(mask);
+        coarse.brick_masks.push_back(coarse.append_occupied(sums));
     }
     return coarse;
 }

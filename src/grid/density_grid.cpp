@@ -9,6 +9,16 @@ namespace lasmesh {
 
 std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 4; }
 
+std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cells>& brick) {
+    std::uint64_t mask = 0;
+    for (std::size_t k = 0; k < brick.size(); ++k)
+        if (brick[k].count > 0) {
+            mask |= std::uint64_t{1} << k;
+            cells.push_back(brick[k]);
+        }
+    return mask;
+}
+
 std::uint64_t DensityGrid::occupied_cells() const { return cells.size(); }
 
 std::uint64_t DensityGrid::host_bytes() const {

@@ -115,6 +115,9 @@ struct DensityGrid {
                 visit(cell_in_brick(brick_keys[b], static_cast<unsigned>(std::countr_zero(mask))), record);
         }
     }
+    // Appends the cells of `brick` that hold a point to `cells`, in the order of their bits, and
+    // returns its mask (brick_masks' form); its first record is the size of `cells` before.
+    std::uint64_t append_occupied(const std::array<CellSums, brick_cells>& brick);
     std::uint64_t occupied_cells() const;
     // Bytes the grid holds on the host: the brick index, the occupied bricks and their cells.
     std::uint64_t host_bytes() const;
