@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <type_traits>
 
 namespace lasmesh {
 
@@ -66,27 +65,17 @@ void add_attribute(draco::Mesh& out, draco::GeometryAttribute::Type type, draco:
     }
 }
 
-// Frees an array's memory (clear() would keep its capacity).
-template <typename T>
-void release(std::vector<T>& values) {
-    std::vector<T>().swap(values);
-}
+} // namespace
 
-// Copies `mesh` into a Draco mesh, then encodes it. A mesh given as non-const is consumed: each
-// of its arrays is released as soon as it is copied.
-template <class MeshOrConst>
-std::string encode(MeshOrConst& mesh, const DracoOptions& options, DracoColor color) {
-    constexpr bool consume = !std::is_const_v<MeshOrConst>;
+std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoColor color) {
     const int bits = position_bits(mesh, options);
     draco::Mesh out;
     out.set_num_points(static_cast<draco::PointIndex::ValueType>(mesh.positions.size()));
     add_attribute<float>(out, draco::GeometryAttribute::POSITION, draco::DT_FLOAT32, false, draco_position_id,
                          [&](std::size_t i) { return mesh.positions[i]; });
-    if constexpr (consume) release(mesh.positions);
     if (!mesh.normals.empty())
         add_attribute<float>(out, draco::GeometryAttribute::NORMAL, draco::DT_FLOAT32, false, draco_normal_id,
                              [&](std::size_t i) { return mesh.normals[i]; });
-    if constexpr (consume) release(mesh.normals);
     if (!mesh.colors.empty() && color == DracoColor::srgb8)
         add_attribute<std::uint8_t>(out, draco::GeometryAttribute::COLOR, draco::DT_UINT8, true, draco_color_id,
                                     [&](std::size_t i) { return mesh.colors[i]; });
@@ -97,14 +86,12 @@ std::string encode(MeshOrConst& mesh, const DracoOptions& options, DracoColor co
                                          return std::array<std::uint16_t, 3>{
                                              srgb8_to_linear16(c[0]), srgb8_to_linear16(c[1]), srgb8_to_linear16(c[2])};
                                      });
-    if constexpr (consume) release(mesh.colors);
     out.SetNumFaces(mesh.triangles.size());
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
         const auto& t = mesh.triangles[f];
         out.SetFace(draco::FaceIndex(static_cast<draco::FaceIndex::ValueType>(f)),
                     {draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
     }
-    if constexpr (consume) release(mesh.triangles);
 
     auto metadata = std::make_unique<draco::GeometryMetadata>();
     metadata->AddEntryDoubleArray(draco_origin_entry, {mesh.origin[0], mesh.origin[1], mesh.origin[2]});
@@ -120,16 +107,6 @@ std::string encode(MeshOrConst& mesh, const DracoOptions& options, DracoColor co
     const draco::Status status = encoder.EncodeMeshToBuffer(out, &buffer);
     if (!status.ok()) throw Error(ErrorKind::output, std::string("Draco cannot encode the mesh: ") + status.error_msg());
     return std::string(buffer.data(), buffer.size());
-}
-
-} // namespace
-
-std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoColor color) {
-    return encode(mesh, options, color);
-}
-
-std::string encode_draco(Mesh&& mesh, const DracoOptions& options, DracoColor color) {
-    return encode(mesh, options, color);
 }
 
 void write_draco(const Mesh& mesh, const std::string& path, const DracoOptions& options) {

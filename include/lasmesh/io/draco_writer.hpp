@@ -52,9 +52,6 @@ enum class DracoColor { srgb8, linear16 };
 // it has colour, triangles, and the metadata above.
 // Throws Error (output) when Draco refuses the mesh, e.g. one without triangles.
 std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoColor color = DracoColor::srgb8);
-// The same bytes, releasing each of the mesh's arrays once Draco has its copy (left empty): for
-// the last use of a large mesh, whose copy and Draco's encoder would otherwise sit beside it.
-std::string encode_draco(Mesh&& mesh, const DracoOptions& options, DracoColor color = DracoColor::srgb8);
 
 // Writes encode_draco(mesh, options) through a temporary file; throws Error (output).
 void write_draco(const Mesh& mesh, const std::string& path, const DracoOptions& options);
