@@ -198,11 +198,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     }
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
-    std::uint64_t fullest_cell = 0; // for the message should the mesh come out empty
-    for (const CellSums& cell : grid.cells) {
-        r.occupied_cells += cell.count > 0;
-        fullest_cell = std::max(fullest_cell, cell.count);
-    }
+    const std::uint64_t fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
+    r.occupied_cells = grid.occupied_cells();
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     r.host_grid_bytes = grid.host_bytes();

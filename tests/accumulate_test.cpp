@@ -102,6 +102,14 @@ void check_equal(const DensityGrid& sparse, const Reference& ref) {
     }
 }
 
+// `points` points of a lasgen scene at the origin, in point format 3, written to `path`.
+void write_scene(const std::string& path, lasgen::SceneKind kind, std::uint64_t points, std::uint64_t seed) {
+    lasgen::SceneOptions scene;
+    scene.kind = kind;
+    scene.origin = {0, 0, 0};
+    test::write_file(path, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), points, seed));
+}
+
 lasgen::GeneratedPoint at(double x, double y, double z, lasgen::Rgb8 color = {10, 20, 30}) {
     return {{x, y, z}, color, 1};
 }
@@ -406,12 +414,7 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
 
 TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the limit stops with advice") {
     test::TempDir dir;
-    lasgen::SceneOptions scene;
-    scene.kind = lasgen::SceneKind::sphere;
-    scene.origin = {0, 0, 0};
-    const lasgen::Scene sphere = lasgen::make_scene(scene);
-    lasgen::LasLayout layout;
-    test::write_file(dir.file("s.las"), test::make_las(layout, sphere, 200000, 3));
+    write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 200000, 3);
     const DensityGrid coarse = accumulate_file(dir.file("s.las"), grid_of("64"));
     const DensityGrid fine = accumulate_file(dir.file("s.las"), grid_of("256"));
     // A surface: 4 x 4 = 16 times the cells would be 64 times for a volume.
@@ -441,13 +444,7 @@ TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the
 
 TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating at twice the cell gives") {
     test::TempDir dir;
-    lasgen::SceneOptions scene;
-    scene.kind = lasgen::SceneKind::torus;
-    scene.origin = {0, 0, 0};
-    const lasgen::Scene torus = lasgen::make_scene(scene);
-    lasgen::LasLayout layout;
-    layout.point_format = 3;
-    test::write_file(dir.file("t.las"), test::make_las(layout, torus, 30000, 9));
+    write_scene(dir.file("t.las"), lasgen::SceneKind::torus, 30000, 9);
     // 64 and 32 cells over the same bounds: the same origin, cells of h and exactly 2h.
     const DensityGrid fine = accumulate_file(dir.file("t.las"), grid_of("64"));
     const DensityGrid direct = accumulate_file(dir.file("t.las"), grid_of("32"));
@@ -459,7 +456,7 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     CHECK(merged.brick_keys == direct.brick_keys);
     CHECK(sums_equal(merged, direct));
     CHECK(merged.points_read == fine.points_read);
-    CHECK(median_occupied_count(merged) >= median_occupied_count(fine));
+    CHECK(merged.median_count() >= fine.median_count());
 
     // An odd axis: its last coarse cell covers the fine grid's last cell and ends where it ended.
     const DensityGrid odd = accumulate_file(dir.file("t.las"), grid_of("63"));

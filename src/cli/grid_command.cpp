@@ -35,11 +35,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         if (const std::string coarsened = coarsen_while_sparse(grid); !coarsened.empty()) grid_reason += "; " + coarsened;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    std::uint64_t occupied = 0, fullest = 0;
-    for (const CellSums& c : grid.cells) {
-        occupied += c.count > 0;
-        fullest = std::max(fullest, c.count);
-    }
+    const std::uint64_t occupied = grid.occupied_cells(), fullest = grid.fullest_cell();
     const std::uint64_t pool_bytes = grid.brick_keys.size() * brick_device_bytes(grid.has_color());
     const double outside_share = grid.points_read ? double(grid.points_outside) / grid.points_read : 0.0;
     const char* depth = !grid.has_color() ? "none" : grid.color_is_16bit() ? "16-bit" : "8-bit in 16-bit fields";

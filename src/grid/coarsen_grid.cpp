@@ -1,4 +1,4 @@
-// coarsen_grid, median_occupied_count and coarsen_while_sparse: --grid auto's second look, at the accumulated counts.
+// coarsen_grid and coarsen_while_sparse: --grid auto's second look, at the accumulated counts.
 // Merging 2 x 2 x 2 cells keeps every sum exact (counts and colours add; position sums move to
 // the larger cell's start), so a coarsened grid is the grid that accumulating at twice the cell
 // would give, without reading the input again.
@@ -10,16 +10,6 @@
 #include <string>
 
 namespace lasmesh {
-
-std::uint64_t median_occupied_count(const DensityGrid& grid) {
-    std::vector<std::uint64_t> counts;
-    counts.reserve(grid.cells.size());
-    for (const CellSums& cell : grid.cells) counts.push_back(cell.count);
-    if (counts.empty()) return 0;
-    const auto middle = counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2);
-    std::nth_element(counts.begin(), middle, counts.end());
-    return *middle;
-}
 
 DensityGrid coarsen_grid(const DensityGrid& fine) {
     constexpr std::int64_t size = DensityGrid::brick_size;
@@ -84,11 +74,11 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
 
 std::string coarsen_while_sparse(DensityGrid& grid) {
     int merged = 0;
-    std::uint64_t median = median_occupied_count(grid);
+    std::uint64_t median = grid.median_count();
     while (median > 0 && median < auto_grid_min_median &&
            std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells) {
         grid = coarsen_grid(grid);
-        median = median_occupied_count(grid);
+        median = grid.median_count();
         ++merged;
     }
     if (merged == 0) return {};

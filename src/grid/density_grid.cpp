@@ -1,9 +1,10 @@
-// DensityGrid's cell arithmetic (occupancy, mean colour, centroid) and the grid a header asks for.
+// DensityGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks for.
 #include "lasmesh/grid/density_grid.hpp"
 
 #include "memory_guard.hpp"
 
 #include <algorithm>
+#include <vector>
 
 namespace lasmesh {
 
@@ -20,6 +21,22 @@ std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cell
 }
 
 std::uint64_t DensityGrid::occupied_cells() const { return cells.size(); }
+
+std::uint64_t DensityGrid::median_count() const {
+    if (cells.empty()) return 0;
+    std::vector<std::uint64_t> counts;
+    counts.reserve(cells.size());
+    for (const CellSums& cell : cells) counts.push_back(cell.count);
+    const auto middle = counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2);
+    std::nth_element(counts.begin(), middle, counts.end());
+    return *middle;
+}
+
+std::uint64_t DensityGrid::fullest_cell() const {
+    std::uint64_t fullest = 0;
+    for (const CellSums& cell : cells) fullest = std::max(fullest, cell.count);
+    return fullest;
+}
 
 std::uint64_t DensityGrid::host_bytes() const {
     return brick_index.size() * sizeof(std::uint32_t) + brick_keys.size() * 3 * sizeof(std::uint64_t) + cells.size() * sizeof(CellSums);

@@ -81,13 +81,7 @@ struct DensityField {
 } // namespace
 
 double automatic_iso(const DensityGrid& grid) {
-    std::vector<std::uint64_t> occupied;
-    for (const CellSums& c : grid.cells)
-        if (c.count > 0) occupied.push_back(c.count);
-    if (occupied.empty()) return 1;
-    auto middle = occupied.begin() + occupied.size() / 2;
-    std::nth_element(occupied.begin(), middle, occupied.end());
-    return std::max(1.0, std::floor(0.1 * static_cast<double>(*middle)));
+    return std::max(1.0, std::floor(0.1 * static_cast<double>(grid.median_count())));
 }
 
 Mesh extract_isosurface(const DensityGrid& grid, double iso, VertexPlacement placement) {

@@ -35,9 +35,6 @@ GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const st
 // the occupied cells is below this, and the longest axis has more than auto_grid_min_cells.
 constexpr std::uint64_t auto_grid_min_median = 4;
 
-// The median point count of the cells that hold a point (0 when none does).
-std::uint64_t median_occupied_count(const DensityGrid& grid);
-
 // --grid auto's second look: coarsens `grid` while the median count of its occupied cells is
 // below auto_grid_min_median and its longest axis has more than auto_grid_min_cells. Returns
 // what was done, for the summary ("" when nothing).

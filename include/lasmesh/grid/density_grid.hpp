@@ -119,6 +119,8 @@ struct DensityGrid {
     // returns its mask (brick_masks' form); its first record is the size of `cells` before.
     std::uint64_t append_occupied(const std::array<CellSums, brick_cells>& brick);
     std::uint64_t occupied_cells() const;
+    std::uint64_t fullest_cell() const; // the most points in one cell (0 for an empty grid)
+    std::uint64_t median_count() const; // the median points in a cell that holds any (0 for none)
     // Bytes the grid holds on the host: the brick index, the occupied bricks and their cells.
     std::uint64_t host_bytes() const;
     // The average colour of a cell's points as 8-bit sRGB (rounded); black for an empty cell.
