@@ -238,31 +238,17 @@ void LazDecoder::decode_next_batch() {
     // Each chunk is independent (its models start fresh), so chunks decode in parallel; errors
     // are kept per chunk and the first one in file order is reported, whatever the timing.
     std::vector<std::optional<ChunkError>> errors(batch.size());
-    auto out = [&](std::size_t i) { return decoded_.data() + first_record[i] * length; };
-    if (format_.layered()) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                try {
-                    decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out(i));
-                } catch (const ChunkError& e) {
-                    errors[i] = e;
-                }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            try {
+                std::byte* out = decoded_.data() + first_record[i] * length;
+                if (format_.layered()) decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out);
+                else decode_pointwise_chunk(format_, batch[i].bytes, batch[i].chunk.points, out);
+            } catch (const ChunkError& e) {
+                errors[i] = e;
             }
-        });
-    } else {
-        // Pointwise chunks two at a time per thread (see decode_pointwise_pair).
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (batch.size() + 1) / 2, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t pair = r.begin(); pair != r.end(); ++pair) {
-                std::array<PointwiseJob, 2> jobs;
-                for (std::size_t k = 0; k < 2 && 2 * pair + k < batch.size(); ++k) {
-                    const std::size_t i = 2 * pair + k;
-                    jobs[k].bytes = batch[i].bytes, jobs[k].count = batch[i].chunk.points, jobs[k].out = out(i);
-                }
-                decode_pointwise_pair(format_, jobs);
-                for (std::size_t k = 0; k < 2 && 2 * pair + k < batch.size(); ++k) errors[2 * pair + k] = jobs[k].error;
-            }
-        });
-    }
+        }
+    });
     for (std::size_t i = 0; i < batch.size(); ++i)
         if (errors[i]) chunk_error(batch[i].index, batch[i].chunk, batch[i].chunk.offset + errors[i]->offset, errors[i]->what());
 }
