@@ -109,12 +109,6 @@ std::string glb_bin_chunk(const std::string& glb) {
     return glb.substr(28 + json_length, bin_length);
 }
 
-std::string glb_json(const std::string& glb) {
-    std::uint32_t json_length;
-    std::memcpy(&json_length, glb.data() + 12, 4);
-    return glb.substr(20, json_length);
-}
-
 std::string read_text(const std::string& path) {
     const test::Bytes bytes = test::read_file(path);
     return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -215,7 +209,7 @@ TEST_CASE("draco: .glb holds the same mesh, linear 16-bit colours, the origin in
     REQUIRE(glb.size() > 28);
     CHECK(glb.compare(0, 4, "glTF") == 0);
     CHECK(glb.size() % 4 == 0);
-    const std::string json = glb_json(glb);
+    const std::string json = test::glb_json(glb);
     CHECK(json.size() % 4 == 0);
     CHECK(json.find("\"translation\":[500000.125,12.5,-6700000.375]") != std::string::npos);
     CHECK(json.find("\"extensionsRequired\":[\"KHR_draco_mesh_compression\"]") != std::string::npos);
@@ -257,7 +251,7 @@ TEST_CASE("draco: a mesh without colour stays without colour") {
     check_round_trip(decode_draco(encode_draco(mesh, {}), "test"), mesh, step);
     test::TempDir dir;
     write_glb(mesh, dir.file("t.glb"), {});
-    CHECK(glb_json(read_text(dir.file("t.glb"))).find("COLOR_0") == std::string::npos);
+    CHECK(test::glb_json(read_text(dir.file("t.glb"))).find("COLOR_0") == std::string::npos);
     check_round_trip(read_glb(dir.file("t.glb")), mesh, step);
 }
 

@@ -47,12 +47,6 @@ Mesh sphere(int rings = 24, int segments = 48) {
     return m;
 }
 
-std::string glb_json(const std::string& glb) {
-    std::uint32_t json_length;
-    std::memcpy(&json_length, glb.data() + 12, 4);
-    return glb.substr(20, json_length);
-}
-
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 } // namespace
@@ -114,7 +108,7 @@ TEST_CASE("glb: plain by default, named, double-sided, origin in extras, positio
     GltfOptions options;
     options.name = "deck \"2\"";
     const std::string glb = encode_glb(m, options);
-    const std::string json = glb_json(glb);
+    const std::string json = test::glb_json(glb);
     CHECK(!has(json, "KHR_draco_mesh_compression"));
     CHECK(!has(json, "translation"));
     CHECK(has(json, "\"name\":\"deck \\\"2\\\"\""));
@@ -135,7 +129,7 @@ TEST_CASE("glb: plain by default, named, double-sided, origin in extras, positio
 
     options.origin = GltfOrigin::node; // a translation as well: read_glb still gives local positions
     write_glb(m, dir.file("n.glb"), options);
-    CHECK(has(glb_json(encode_glb(m, options)), "\"translation\":[431249.96,87.5,-6700199.96]"));
+    CHECK(has(test::glb_json(encode_glb(m, options)), "\"translation\":[431249.96,87.5,-6700199.96]"));
     CHECK(read_glb(dir.file("n.glb")).origin == m.origin);
     CHECK(read_glb(dir.file("n.glb")).positions == m.positions);
 }
@@ -143,11 +137,11 @@ TEST_CASE("glb: plain by default, named, double-sided, origin in extras, positio
 TEST_CASE("glb: 32-bit indices above 65,535 vertices, Draco indices 16-bit below") {
     Mesh big = sphere(200, 400); // 79,602 vertices
     REQUIRE(big.positions.size() > 65535);
-    CHECK(has(glb_json(encode_glb(big, {})), "\"componentType\":5125,\"count\":" + std::to_string(3 * big.triangles.size())));
+    CHECK(has(test::glb_json(encode_glb(big, {})), "\"componentType\":5125,\"count\":" + std::to_string(3 * big.triangles.size())));
     GltfOptions draco;
     draco.compression = GltfCompression::draco;
     const Mesh small = sphere();
-    const std::string json = glb_json(encode_glb(small, draco));
+    const std::string json = test::glb_json(encode_glb(small, draco));
     CHECK(has(json, "\"componentType\":5123,\"count\":" + std::to_string(3 * small.triangles.size())));
     CHECK(has(json, "\"doubleSided\":true"));
     test::TempDir dir;

@@ -45,7 +45,7 @@ Mesh sheet(int n = 100) {
 
 // A closed, outward-wound sphere of radius 2 around the origin, marched on a 96^3 grid (the
 // triangles the pipeline simplifies), coloured per vertex.
-Mesh sphere() {
+Mesh marched_sphere() {
     test::DenseCells g;
     const std::uint32_t n = 96;
     g.spec.dims = {n, n, n};
@@ -104,7 +104,7 @@ std::size_t bad_edges(const Mesh& m) {
 } // namespace
 
 TEST_CASE("simplify: fewer triangles, vertices within the bound, colours and winding kept") {
-    const Mesh original = sphere();
+    const Mesh original = marched_sphere();
     const TriangleSearch surface(original);
     std::map<std::array<float, 3>, std::array<std::uint8_t, 3>> color_of;
     for (std::size_t i = 0; i < original.positions.size(); ++i) color_of[original.positions[i]] = original.colors[i];

@@ -26,6 +26,12 @@ TempDir::~TempDir() {
     std::filesystem::remove_all(path_, ignored);
 }
 
+std::string glb_json(const std::string& glb) {
+    std::uint32_t json_length;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    return glb.substr(20, json_length);
+}
+
 Bytes read_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open " + path);

@@ -36,6 +36,9 @@ void write_file(const std::string& path, const Bytes& bytes);
 Bytes make_las(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std::uint64_t count,
                std::uint64_t seed = 1);
 
+// The JSON chunk of a binary glTF file (.glb).
+std::string glb_json(const std::string& glb);
+
 // The shared LAS test corpus beside the checkout, or empty when it is absent.
 std::filesystem::path shared_las_folder();
 

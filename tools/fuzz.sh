@@ -15,8 +15,20 @@ sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/read/input_stream.cpp src/rea
          src/read/las_scan.cpp src/read/arithmetic_decoder.cpp src/read/laz_vlr.cpp src/read/laz_items_v2.cpp
          src/read/laz_pointwise.cpp src/read/laz_layered.cpp src/read/laz_chunks.cpp src/read/laz_decoder.cpp)
 if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out/fuzz_las" | head -1)" ]; then
-  clang++-14 -std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
-    -fno-sanitize-recover=undefined -Iinclude -Isrc "${sources[@]}" -lboost_iostreams -ltbb -o "$out/fuzz_las"
+  # One object per source, compiled in parallel, then linked.
+  flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+         -Iinclude -Isrc)
+  mkdir -p "$out/objects"
+  objects=()
+  for source in "${sources[@]}"; do objects+=("$out/objects/$(echo "$source" | tr / _).o"); done
+  running=()
+  for i in "${!sources[@]}"; do
+    clang++-14 "${flags[@]}" -c "${sources[$i]}" -o "${objects[$i]}" &
+    running+=($!)
+    if [ ${#running[@]} -ge "$(nproc)" ]; then wait "${running[0]}"; running=("${running[@]:1}"); fi # set -e: a failure stops here
+  done
+  for pid in "${running[@]}"; do wait "$pid"; done
+  clang++-14 "${flags[@]}" "${objects[@]}" -lboost_iostreams -ltbb -o "$out/fuzz_las"
 fi
 
 # Seeds: small valid files of every version and point format, some with extra bytes, and the

@@ -25,9 +25,9 @@ inline std::uint8_t clamp_u8(std::int32_t v) { return static_cast<std::uint8_t>(
 // GPS time multipliers (Isenburg 2013, 3.3.2): codes 1..499 multiply the last difference,
 // 500 is the largest, 501..510 are -1..-10, 511 unchanged, 512 a full new time, 513..515
 // switch to another of the four sequences.
-constexpr std::int32_t gps_multi_unchanged = gps_multi - gps_multi_minus + 1; // 511
-constexpr std::int32_t gps_multi_code_full = gps_multi - gps_multi_minus + 2; // 512
-constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 6;     // 516
+constexpr std::int32_t gps_pointwise_unchanged = gps_multi - gps_multi_minus + 1; // 511
+constexpr std::int32_t gps_pointwise_code_full = gps_multi - gps_multi_minus + 2; // 512
+constexpr std::int32_t gps_pointwise_total = gps_multi - gps_multi_minus + 6;     // 516
 
 
 } // namespace
@@ -99,7 +99,7 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
     decoder = dec;
 }
 
-GpsTime11Decoder::GpsTime11Decoder(const std::byte* first) : multi_(gps_multi_total) {
+GpsTime11Decoder::GpsTime11Decoder(const std::byte* first) : multi_(gps_pointwise_total) {
     last_time_[0] = load_le<std::int64_t>(first);
 }
 
@@ -134,7 +134,7 @@ void GpsTime11Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
             break;
         }
         const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(multi_));
-        if (multi < gps_multi_unchanged) {
+        if (multi < gps_pointwise_unchanged) {
             // Extreme multipliers count towards replacing the reference difference.
             const auto [prediction, context, extreme] = predict_gps_difference(multi, last_diff_[last_]);
             const std::int32_t diff = ic_time_.decode(dec, prediction, context);
@@ -146,10 +146,10 @@ void GpsTime11Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
                 last_diff_[last_] = diff;
                 extreme_counter_[last_] = 0;
             }
-        } else if (multi == gps_multi_code_full) {
+        } else if (multi == gps_pointwise_code_full) {
             full_time();
-        } else if (multi > gps_multi_code_full) {
-            last_ = (last_ + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
+        } else if (multi > gps_pointwise_code_full) {
+            last_ = (last_ + static_cast<std::uint32_t>(multi - gps_pointwise_code_full)) & 3;
             continue;
         }
         break;

@@ -38,8 +38,8 @@ inline std::uint32_t return_level_8ctx(std::uint32_t n, std::uint32_t r) {
 
 // GPS time codes in v3: as in GPSTIME11 v2 but without an "unchanged" code (the changed-values
 // symbol says whether the time changed): 511 = full time, 512..514 = switch sequence.
-constexpr std::int32_t gps_multi_code_full = gps_multi - gps_multi_minus + 1; // 511
-constexpr std::int32_t gps_multi_total = gps_multi - gps_multi_minus + 5;     // 515
+constexpr std::int32_t gps_layered_code_full = gps_multi - gps_multi_minus + 1; // 511
+constexpr std::int32_t gps_layered_total = gps_multi - gps_multi_minus + 5;     // 515
 
 
 struct Layer {
@@ -76,7 +76,7 @@ struct Point14Context {
     IntegerDecoder ic_dx{32, 2}, ic_dy{32, 22}, ic_z{32, 20};
     std::array<std::unique_ptr<SymbolModel>, 64> classification_models, flags_models, user_data_models;
     IntegerDecoder ic_intensity{16, 4}, ic_scan_angle{16, 2}, ic_point_source{16};
-    LazySymbolModel gps_multi_model{gps_multi_total}, gps_zero_diff{5};
+    LazySymbolModel gps_multi_model{gps_layered_total}, gps_zero_diff{5};
     IntegerDecoder ic_gps{32, 9};
     std::uint32_t gps_last = 0, gps_next = 0;
     std::array<std::int64_t, 4> gps_times{};
@@ -171,7 +171,7 @@ void Point14Decoder::decode_gps(Point14Context& c) {
             break;
         }
         const std::int32_t multi = static_cast<std::int32_t>(dec.decode_symbol(c.gps_multi_model));
-        if (multi < gps_multi_code_full) {
+        if (multi < gps_layered_code_full) {
             // Extreme multipliers count towards replacing the reference difference.
             const auto [prediction, context, extreme] = predict_gps_difference(multi, c.gps_diffs[l]);
             const std::int32_t diff = c.ic_gps.decode(dec, prediction, context);
@@ -182,10 +182,10 @@ void Point14Decoder::decode_gps(Point14Context& c) {
                 c.gps_diffs[l] = diff;
                 c.gps_extreme[l] = 0;
             }
-        } else if (multi == gps_multi_code_full) {
+        } else if (multi == gps_layered_code_full) {
             full_time();
         } else {
-            c.gps_last = (l + static_cast<std::uint32_t>(multi - gps_multi_code_full)) & 3;
+            c.gps_last = (l + static_cast<std::uint32_t>(multi - gps_layered_code_full)) & 3;
             continue;
         }
         break;
