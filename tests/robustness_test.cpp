@@ -3,6 +3,7 @@
 #include "lasmesh/error.hpp"
 #include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/grid.hpp"
+#include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/same_file.hpp"
 #include "lasmesh/measure/compare.hpp"
@@ -82,6 +83,23 @@ TEST_CASE("a gzip trailer is verified even when the last record ends the reading
     test::write_file(dir.file("bad-crc.las.gz"), gz);
     LasReader reader(dir.file("bad-crc.las.gz"));
     CHECK_THROWS_WITH_AS(read_everything(reader), doctest::Contains("CRC mismatch"), Error);
+}
+
+TEST_CASE("output files: two open at once in one thread keep their own bytes") {
+    // Each OutputFile has its own stdio buffer: a buffer shared per thread would mix the two.
+    test::TempDir dir;
+    lasmesh::OutputFile a(dir.file("a.bin")), b(dir.file("b.bin"));
+    std::string bytes_a, bytes_b;
+    for (int i = 0; i < 3000; ++i) { // 3 MB each: past the buffers several times
+        const std::string line_a(1000, char('a' + i % 26)), line_b(1000, char('A' + i % 26));
+        a.write(line_a), b.write(line_b);
+        bytes_a += line_a, bytes_b += line_b;
+    }
+    a.commit();
+    b.commit();
+    const test::Bytes read_a = test::read_file(dir.file("a.bin")), read_b = test::read_file(dir.file("b.bin"));
+    CHECK(std::string(reinterpret_cast<const char*>(read_a.data()), read_a.size()) == bytes_a);
+    CHECK(std::string(reinterpret_cast<const char*>(read_b.data()), read_b.size()) == bytes_b);
 }
 
 TEST_CASE("same_file: by inode for existing files, by folder and name for new ones") {

@@ -81,8 +81,9 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
         forget(temporary_);
         throw Error(ErrorKind::output, path_ + ": cannot open " + temporary_ + ": " + std::strerror(error));
     }
-    static thread_local char buffer[1 << 20];
-    std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+    constexpr std::size_t buffer_size = 1 << 20;
+    buffer_ = std::make_unique_for_overwrite<char[]>(buffer_size);
+    std::setvbuf(file_, buffer_.get(), _IOFBF, buffer_size);
 }
 
 OutputFile::~OutputFile() {

@@ -31,6 +31,7 @@ public:
 private:
     [[noreturn]] void fail(const std::string& doing);
     std::string path_, temporary_;
+    std::unique_ptr<char[]> buffer_; // stdio's buffer for file_: 1 MiB, fewer write calls
     std::FILE* file_ = nullptr;
     bool committed_ = false;
 };
