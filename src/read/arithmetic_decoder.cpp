@@ -2,6 +2,7 @@
 #include "read/arithmetic_decoder.hpp"
 
 #include <algorithm>
+#include <new>
 
 namespace lasmesh::laz {
 
@@ -38,26 +39,42 @@ SymbolModel::SymbolModel(std::uint32_t n, Fresh) : last_symbol(n - 1), symbols(n
     update_cycle = symbols_until_update = (n + 6) >> 1;
 }
 
-SymbolModel::SymbolModel(std::uint32_t n) {
-    // Every new model of n symbols starts alike: each thread builds one per size once and
-    // copies it. Building is most of the work of a chunk of a few points (COPC nodes). The
-    // sizes are constants of the item decoders, a dozen or so.
-    thread_local std::vector<SymbolModel> fresh;
-    auto it = std::find_if(fresh.begin(), fresh.end(), [n](const SymbolModel& m) { return m.symbols == n; });
-    if (it == fresh.end()) it = fresh.insert(fresh.end(), SymbolModel(n, Fresh{}));
-    const SymbolModel& f = *it;
+ModelSize& ModelStore::size(std::uint32_t symbols) {
+    if (symbols >= by_symbols_.size()) by_symbols_.resize(symbols + 1, nullptr);
+    ModelSize*& size = by_symbols_[symbols];
+    if (!size) size = &sizes_.emplace_back(ModelSize{SymbolModel(symbols, SymbolModel::Fresh{}), {}});
+    return *size;
+}
+
+SymbolModel::SymbolModel(std::uint32_t n, ModelStore& store) : home_(&store.size(n)) {
+    // Every new model of n symbols starts alike: a copy of the store's fresh one.
+    ModelSize& size = *home_;
+    const SymbolModel& f = size.fresh;
     distribution = table = counts = nullptr;
     table_shift = f.table_shift, table_last = f.table_last, last_symbol = f.last_symbol, likely = f.likely;
     likely_low = f.likely_low, likely_high = f.likely_high;
     symbols_until_update = f.symbols_until_update, symbols = f.symbols, total_count = f.total_count;
     update_cycle = f.update_cycle;
-    const std::size_t size = storage_size();
-    storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(size);
+    if (size.spare.empty()) {
+        storage_ = std::make_unique_for_overwrite<std::uint16_t[]>(storage_size());
+    } else {
+        storage_ = std::move(size.spare.back());
+        size.spare.pop_back();
+    }
     std::uint16_t* d = storage_.get();
-    std::copy(f.storage_.get(), f.storage_.get() + size, d);
+    std::copy(f.storage_.get(), f.storage_.get() + storage_size(), d);
     distribution = d;
     table = d + (f.table - f.distribution);
     counts = d + (f.counts - f.distribution);
+}
+
+SymbolModel::~SymbolModel() {
+    if (!storage_ || !home_) return;
+    try {
+        home_->spare.push_back(std::move(storage_));
+    } catch (const std::bad_alloc&) {
+        // no room to keep it: the memory is freed instead
+    }
 }
 
 void SymbolModel::update() {
@@ -104,7 +121,8 @@ void SymbolModel::update() {
     symbols_until_update = update_cycle;
 }
 
-ArithmeticDecoder::ArithmeticDecoder(std::span<const std::byte> bytes) : data_(bytes.data()), size_(bytes.size()) {
+ArithmeticDecoder::ArithmeticDecoder(std::span<const std::byte> bytes, ModelStore& store)
+    : data_(bytes.data()), store_(&store), size_(bytes.size()) {
     for (int i = 0; i < 4; ++i) value_ = (value_ << 8) | next_byte();
 }
 

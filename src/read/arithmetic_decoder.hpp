@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <span>
@@ -40,11 +41,16 @@ struct BitModel {
 // update cycle (8 * (516 + 6)), under 2^16. Half the bytes of 32-bit entries: the models a
 // format-3 point touches (up to 3 KB each for 256 symbols, dozens of them) overflowed the 48 KB
 // L1 cache about 3 times per point (cachegrind).
+class ModelStore;
+struct ModelSize;
+
 class SymbolModel {
 public:
-    explicit SymbolModel(std::uint32_t symbols);
+    // A fresh model of `symbols` symbols, its memory from `store` and given back there.
+    SymbolModel(std::uint32_t symbols, ModelStore& store);
     SymbolModel(SymbolModel&&) noexcept = default; // the block moves, the pointers stay valid
     SymbolModel& operator=(SymbolModel&&) noexcept = default;
+    ~SymbolModel();
     void update();
 
     const std::uint16_t* distribution = nullptr; // symbols + 2 entries; the last two are
@@ -65,10 +71,36 @@ public:
     std::uint32_t update_cycle = 0;
 
 private:
+    friend class ModelStore;
     struct Fresh {};
     SymbolModel(std::uint32_t symbols, Fresh); // builds it
     std::size_t storage_size() const { return 2 * std::size_t{symbols} + 2 + table_last + 2; }
     std::unique_ptr<std::uint16_t[]> storage_;
+    ModelSize* home_ = nullptr; // where storage_ goes back (none for a store's own fresh models)
+};
+
+// A ModelStore's fresh model of one size, and the memory of dropped models of that size.
+struct ModelSize {
+    SymbolModel fresh;
+    std::vector<std::unique_ptr<std::uint16_t[]>> spare;
+};
+
+// Where the symbol models of one thread's chunks come from. Every chunk starts its models afresh,
+// and a COPC node holds only a few points, so making models is most of its work: the store builds
+// a fresh model of each size once and copies it, and hands a dropped model's memory to the next
+// model of its size (malloc and free were a quarter of COPC's profile). Owned by whoever decodes
+// chunks on a thread, one after another; it outlives their models.
+class ModelStore {
+public:
+    ModelStore() = default;
+    ModelStore(const ModelStore&) = delete;
+    ModelStore& operator=(const ModelStore&) = delete;
+
+    ModelSize& size(std::uint32_t symbols);
+
+private:
+    std::deque<ModelSize> sizes_;         // a dozen or so (the item decoders' constants); they stay in place
+    std::vector<ModelSize*> by_symbols_; // index: the number of symbols
 };
 
 // A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
@@ -76,8 +108,8 @@ private:
 class LazySymbolModel {
 public:
     explicit LazySymbolModel(std::uint32_t symbols) : symbols_(symbols) {}
-    SymbolModel& get() {
-        if (!model_) model_ = std::make_unique<SymbolModel>(symbols_);
+    SymbolModel& get(ModelStore& store) {
+        if (!model_) model_ = std::make_unique<SymbolModel>(symbols_, store);
         return *model_;
     }
 
@@ -93,12 +125,16 @@ private:
 class ArithmeticDecoder {
 public:
     ArithmeticDecoder() = default;
-    // Starts decoding at the first byte of `bytes` (reads 4 bytes of state).
-    explicit ArithmeticDecoder(std::span<const std::byte> bytes);
+    // A decoder with nothing to decode (an absent layer), its models made in `store`.
+    explicit ArithmeticDecoder(ModelStore& store) : store_(&store) {}
+    // Starts decoding at the first byte of `bytes` (reads 4 bytes of state); the models it
+    // decodes with are made in `store`.
+    ArithmeticDecoder(std::span<const std::byte> bytes, ModelStore& store);
 
     std::uint32_t decode_bit(BitModel& model);
     std::uint32_t decode_symbol(SymbolModel& model);
-    std::uint32_t decode_symbol(LazySymbolModel& model) { return decode_symbol(model.get()); }
+    std::uint32_t decode_symbol(LazySymbolModel& model) { return decode_symbol(model.get(*store_)); }
+    ModelStore& store() const { return *store_; }
     std::uint32_t read_bits(std::uint32_t bits); // 1 to 32 raw bits
     std::uint32_t read_int() { return read_bits(32); }
 
@@ -131,6 +167,7 @@ private:
     static std::uint32_t search(const std::uint16_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n);
 
     const std::byte* data_ = nullptr;
+    ModelStore* store_ = nullptr;
     std::size_t size_ = 0;
     std::size_t pos_ = 0;
     std::uint32_t value_ = 0;
@@ -160,8 +197,8 @@ private:
     // place, not behind a pointer: one allocation less per model (COPC +10%), and no pointer to
     // load before a model chosen by the symbol just decoded (the bit length k, or X's k as Y's
     // context); large chunks showed no change from that.
-    SymbolModel& bits_model(std::uint32_t context);
-    SymbolModel& corrector(std::uint32_t k);
+    SymbolModel& bits_model(std::uint32_t context, ModelStore& store);
+    SymbolModel& corrector(std::uint32_t k, ModelStore& store);
     std::vector<std::optional<SymbolModel>> bits_models_; // one per context
     BitModel corrector0_;
     std::vector<std::optional<SymbolModel>> correctors_; // index k-1 for k = 1..corr_bits
@@ -230,15 +267,15 @@ inline void Median5::add(std::int32_t x) {
 
 // The per-value functions are inline: the item decoders call them a dozen times per point.
 
-inline SymbolModel& IntegerDecoder::bits_model(std::uint32_t context) {
+inline SymbolModel& IntegerDecoder::bits_model(std::uint32_t context, ModelStore& store) {
     auto& m = bits_models_[context];
-    if (!m) m.emplace(corr_bits_ + 1);
+    if (!m) m.emplace(corr_bits_ + 1, store);
     return *m;
 }
 
-inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k) {
+inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k, ModelStore& store) {
     auto& m = correctors_[k - 1];
-    if (!m) m.emplace(k <= bits_high_ ? 1u << k : 1u << bits_high_);
+    if (!m) m.emplace(k <= bits_high_ ? 1u << k : 1u << bits_high_, store);
     return *m;
 }
 
@@ -337,10 +374,10 @@ inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
     if (k_ >= 32) return corr_min_;
     std::uint32_t c;
     if (k_ <= bits_high_) {
-        c = dec.decode_symbol(corrector(k_));
+        c = dec.decode_symbol(corrector(k_, dec.store()));
     } else {
         const std::uint32_t low_bits = k_ - bits_high_;
-        c = dec.decode_symbol(corrector(k_));
+        c = dec.decode_symbol(corrector(k_, dec.store()));
         c = (c << low_bits) | dec.read_bits(low_bits);
     }
     // Bucket k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k]: c (below 2^k) at or above
@@ -353,7 +390,7 @@ inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
 }
 
 [[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
-    const std::int32_t corr = read_corrector(dec, bits_model(context));
+    const std::int32_t corr = read_corrector(dec, bits_model(context, dec.store()));
     // Back into [0, range): below 0 add the range, at or above it subtract it (range 0 for 32-bit
     // values, which wrap by themselves). With masks: the sign of a sum is a coin flip for the
     // branch predictor.

@@ -33,7 +33,8 @@ std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Fo
         throw_input_error(source, where + " lists " + std::to_string(count) + " chunks for " +
                                       std::to_string(point_count) + " points (corrupt table)");
     std::vector<Chunk> chunks(count);
-    ArithmeticDecoder dec(table.subspan(8));
+    ModelStore store;
+    ArithmeticDecoder dec(table.subspan(8), store);
     IntegerDecoder ic(32, 2);
     std::uint64_t offset = first_chunk_offset, points = 0;
     std::int32_t last_points = 0, last_bytes = 0;

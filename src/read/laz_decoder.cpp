@@ -201,7 +201,7 @@ void LazDecoder::decode_pointwise_sequential() {
             decoded_.resize_for_overwrite(static_cast<std::size_t>(p.chunk.points) * length);
         }
         try {
-            const std::size_t used = decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data());
+            const std::size_t used = decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data(), stores_.local());
             carry_.erase(carry_.begin(), carry_.begin() + static_cast<std::ptrdiff_t>(used));
             break;
         } catch (const ChunkError& e) {
@@ -242,8 +242,9 @@ void LazDecoder::decode_next_batch() {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             try {
                 std::byte* out = decoded_.data() + first_record[i] * length;
-                if (format_.layered()) decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out);
-                else decode_pointwise_chunk(format_, batch[i].bytes, batch[i].chunk.points, out);
+                ModelStore& store = stores_.local();
+                if (format_.layered()) decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
+                else decode_pointwise_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
             } catch (const ChunkError& e) {
                 errors[i] = e;
             }

@@ -9,8 +9,11 @@
 
 #include "lasmesh/read/input_stream.hpp"
 #include "lasmesh/read/las_header.hpp"
+#include "read/arithmetic_decoder.hpp"
 #include "read/laz_chunks.hpp"
 #include "read/laz_vlr.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -48,6 +51,8 @@ private:
     std::uint64_t point_count_;
     std::uint64_t points_started_ = 0; // points in chunks taken from the stream so far
     std::size_t chunks_started_ = 0;
+    // Each thread's symbol models, reused from chunk to chunk (ModelStore).
+    tbb::enumerable_thread_specific<ModelStore> stores_;
     std::vector<Chunk> table_;  // empty when decoding without the table
     bool have_table_ = false;
     std::vector<std::byte> carry_; // pipe, pointwise: bytes read past the last chunk's end

@@ -32,15 +32,17 @@ constexpr std::int32_t gps_pointwise_total = gps_multi - gps_multi_minus + 6;   
 
 } // namespace
 
-Point10Decoder::Point10Decoder(const std::byte* p)
+Point10Decoder::Point10Decoder(const std::byte* p, ModelStore& store)
     : x_(load_le<std::int32_t>(p)), y_(load_le<std::int32_t>(p + 4)), z_(load_le<std::int32_t>(p + 8)),
       intensity_(0), // v2 predicts intensity from last_intensity_, which starts at 0
       bits_(std::to_integer<std::uint8_t>(p[14])), classification_(std::to_integer<std::uint8_t>(p[15])),
       scan_angle_(std::to_integer<std::uint8_t>(p[16])), user_data_(std::to_integer<std::uint8_t>(p[17])),
-      point_source_(load_le<std::uint16_t>(p + 18)) {}
+      point_source_(load_le<std::uint16_t>(p + 18)), changed_(64, store),
+      scan_angle_models_{SymbolModel(256, store), SymbolModel(256, store)} {}
 
-SymbolModel& Point10Decoder::lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context) {
-    if (!models[context]) models[context] = std::make_unique<SymbolModel>(256);
+SymbolModel& Point10Decoder::lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context,
+                                  ModelStore& store) {
+    if (!models[context]) models[context] = std::make_unique<SymbolModel>(256, store);
     return *models[context];
 }
 
@@ -49,7 +51,7 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
     const std::uint32_t changed = dec.decode_symbol(changed_);
     unsigned r, n, m, l;
     if (changed) {
-        if (changed & 32) bits_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(bit_byte_models_, bits_)));
+        if (changed & 32) bits_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(bit_byte_models_, bits_, dec.store())));
         r = bits_ & 7;
         n = (bits_ >> 3) & 7;
         m = return_map[n][r];
@@ -61,12 +63,12 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
             intensity_ = last_intensity_[m];
         }
         if (changed & 8)
-            classification_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(classification_models_, classification_)));
+            classification_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(classification_models_, classification_, dec.store())));
         if (changed & 4) {
             const std::uint32_t v = dec.decode_symbol(scan_angle_models_[(bits_ >> 6) & 1]);
             scan_angle_ = static_cast<std::uint8_t>(v + scan_angle_);
         }
-        if (changed & 2) user_data_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(user_data_models_, user_data_)));
+        if (changed & 2) user_data_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(user_data_models_, user_data_, dec.store())));
         if (changed & 1) point_source_ = static_cast<std::uint16_t>(ic_point_source_.decode(dec, point_source_));
     } else {
         r = bits_ & 7;
@@ -99,7 +101,8 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
     decoder = dec;
 }
 
-GpsTime11Decoder::GpsTime11Decoder(const std::byte* first) : multi_(gps_pointwise_total) {
+GpsTime11Decoder::GpsTime11Decoder(const std::byte* first, ModelStore& store)
+    : multi_(gps_pointwise_total), zero_diff_(6, store) {
     last_time_[0] = load_le<std::int64_t>(first);
 }
 
@@ -217,7 +220,10 @@ void ByteDecoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
     decoder = dec;
 }
 
-WavePacketDecoder::WavePacketDecoder(const std::byte* first) { std::memcpy(last_.data(), first, last_.size()); }
+WavePacketDecoder::WavePacketDecoder(const std::byte* first, ModelStore& store)
+    : index_(256, store), offset_sym_{SymbolModel(4, store), SymbolModel(4, store), SymbolModel(4, store), SymbolModel(4, store)} {
+    std::memcpy(last_.data(), first, last_.size());
+}
 
 void WavePacketDecoder::decode(ArithmeticDecoder& dec, std::byte* out) {
     out[0] = std::byte{static_cast<std::uint8_t>(dec.decode_symbol(index_))};

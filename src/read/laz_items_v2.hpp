@@ -15,11 +15,11 @@ namespace lasmesh::laz {
 // X, Y, Z, intensity, return bits, classification, scan angle, user data, point source: 20 bytes.
 class Point10Decoder {
 public:
-    explicit Point10Decoder(const std::byte* first);
+    Point10Decoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
 private:
-    SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context);
+    SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context, ModelStore& store);
 
     std::int32_t x_, y_, z_;
     std::uint16_t intensity_;
@@ -28,9 +28,9 @@ private:
     std::array<std::uint16_t, 16> last_intensity_{};
     std::array<Median5, 16> median_x_{}, median_y_{};
     std::array<std::int32_t, 8> last_height_{};
-    SymbolModel changed_{64};
+    SymbolModel changed_;
     IntegerDecoder ic_intensity_{16, 4};
-    std::array<SymbolModel, 2> scan_angle_models_{SymbolModel(256), SymbolModel(256)};
+    std::array<SymbolModel, 2> scan_angle_models_;
     IntegerDecoder ic_point_source_{16};
     std::array<std::unique_ptr<SymbolModel>, 256> bit_byte_models_, classification_models_, user_data_models_;
     IntegerDecoder ic_dx_{32, 2}, ic_dy_{32, 22}, ic_z_{32, 20};
@@ -40,7 +40,7 @@ private:
 // four interleaved sequences (Isenburg 2013, section 3.3.2).
 class GpsTime11Decoder {
 public:
-    explicit GpsTime11Decoder(const std::byte* first);
+    GpsTime11Decoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
 private:
@@ -49,7 +49,7 @@ private:
     std::array<std::int32_t, 4> last_diff_{};
     std::array<std::int32_t, 4> extreme_counter_{};
     LazySymbolModel multi_;
-    SymbolModel zero_diff_{6};
+    SymbolModel zero_diff_;
     IntegerDecoder ic_time_{32, 9};
 };
 
@@ -86,15 +86,15 @@ private:
 // Waveform packet descriptor (29 bytes): index, offset, size, return point, x, y, z.
 class WavePacketDecoder {
 public:
-    explicit WavePacketDecoder(const std::byte* first);
+    WavePacketDecoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
 private:
     std::array<std::byte, 29> last_;
     std::uint32_t last_offset_sym_ = 0;
     std::int32_t last_diff_32_ = 0;
-    SymbolModel index_{256};
-    std::array<SymbolModel, 4> offset_sym_{SymbolModel(4), SymbolModel(4), SymbolModel(4), SymbolModel(4)};
+    SymbolModel index_;
+    std::array<SymbolModel, 4> offset_sym_;
     IntegerDecoder ic_offset_{32}, ic_size_{32}, ic_return_point_{32}, ic_xyz_{32, 3};
 };
 

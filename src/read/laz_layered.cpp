@@ -50,8 +50,8 @@ struct Layer {
 };
 
 template <std::size_t N>
-SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, N>& models, std::size_t i, std::uint32_t symbols) {
-    if (!models[i]) models[i] = std::make_unique<SymbolModel>(symbols);
+SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, N>& models, std::size_t i, std::uint32_t symbols, ModelStore& store) {
+    if (!models[i]) models[i] = std::make_unique<SymbolModel>(symbols, store);
     return *models[i];
 }
 
@@ -222,13 +222,13 @@ void Point14Decoder::decode(std::byte* out) {
 
     const std::uint32_t last_n = c->n, last_r = c->r;
     std::uint32_t n = last_n, r = last_r;
-    if (changed & (1u << 2)) n = c->n = xy.decode_symbol(lazy(c->number_of_returns, last_n, 16));
+    if (changed & (1u << 2)) n = c->n = xy.decode_symbol(lazy(c->number_of_returns, last_n, 16, xy.store()));
     switch (changed & 3) {
     case 0: break;
     case 1: r = (last_r + 1) % 16; break;
     case 2: r = (last_r + 15) % 16; break;
     default:
-        if (gps_change) r = xy.decode_symbol(lazy(c->return_number, last_r, 16));
+        if (gps_change) r = xy.decode_symbol(lazy(c->return_number, last_r, 16, xy.store()));
         else r = (last_r + xy.decode_symbol(c->return_number_gps_same) + 2) % 16;
         break;
     }
@@ -254,11 +254,11 @@ void Point14Decoder::decode(std::byte* out) {
     }
     if (layers_[2].present) {
         const std::uint32_t ccc = ((c->classification & 0x1Fu) << 1) + (cpr == 3 ? 1u : 0u);
-        c->classification = static_cast<std::uint8_t>(layers_[2].dec.decode_symbol(lazy(c->classification_models, ccc, 256)));
+        c->classification = static_cast<std::uint8_t>(layers_[2].dec.decode_symbol(lazy(c->classification_models, ccc, 256, layers_[2].dec.store())));
     }
     if (layers_[3].present) {
         const std::uint32_t last_flags = (c->edge << 5) | (c->scan_dir << 4) | c->class_flags;
-        const std::uint32_t flags = layers_[3].dec.decode_symbol(lazy(c->flags_models, last_flags, 64));
+        const std::uint32_t flags = layers_[3].dec.decode_symbol(lazy(c->flags_models, last_flags, 64, layers_[3].dec.store()));
         c->edge = (flags >> 5) & 1;
         c->scan_dir = (flags >> 4) & 1;
         c->class_flags = flags & 15;
@@ -271,7 +271,7 @@ void Point14Decoder::decode(std::byte* out) {
     if (layers_[5].present && scan_angle_change)
         c->scan_angle = static_cast<std::int16_t>(c->ic_scan_angle.decode(layers_[5].dec, c->scan_angle, gps_change));
     if (layers_[6].present)
-        c->user_data = static_cast<std::uint8_t>(layers_[6].dec.decode_symbol(lazy(c->user_data_models, c->user_data / 4u, 256)));
+        c->user_data = static_cast<std::uint8_t>(layers_[6].dec.decode_symbol(lazy(c->user_data_models, c->user_data / 4u, 256, layers_[6].dec.store())));
     if (layers_[7].present && point_source_change)
         c->point_source = static_cast<std::uint16_t>(c->ic_point_source.decode(layers_[7].dec, c->point_source));
     if (layers_[8].present && gps_change) {
@@ -350,7 +350,8 @@ struct WaveState {
 
 } // namespace
 
-void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count, std::byte* out) {
+void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count, std::byte* out,
+                          ModelStore& store) {
     if (count == 0) return;
     const std::size_t length = format.record_length;
     const std::size_t layers_n = layer_count(format);
@@ -376,7 +377,7 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
     if (count == 1) return;
     for (Layer& layer : layers) {
         layer.present = !layer.bytes.empty();
-        if (layer.present) layer.dec = ArithmeticDecoder(layer.bytes);
+        layer.dec = layer.present ? ArithmeticDecoder(layer.bytes, store) : ArithmeticDecoder(store);
     }
 
     // Item decoders in item order; POINT14 is first and sets the channel for the others.
@@ -416,7 +417,7 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
         case ItemType::wavepacket14: {
             WaveState s;
             std::memcpy(s.last.data(), first, 29);
-            s.decoder = std::make_unique<WavePacketDecoder>(first);
+            s.decoder = std::make_unique<WavePacketDecoder>(first, store);
             wave.emplace(point->context(), std::move(s), item.version);
             wave_layer = &layers[layer];
             wave_at = field;
@@ -470,10 +471,10 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
             }
         }
         if (wave) {
-            wave->follow(channel, [](const WaveState& from) {
+            wave->follow(channel, [&store](const WaveState& from) {
                 WaveState s;
                 s.last = from.last;
-                s.decoder = std::make_unique<WavePacketDecoder>(from.last.data());
+                s.decoder = std::make_unique<WavePacketDecoder>(from.last.data(), store);
                 return s;
             });
             WaveState& models = wave->models();

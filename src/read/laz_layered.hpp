@@ -4,6 +4,7 @@
 // need could be skipped; a layer of 0 bytes means the field never changes in the chunk.
 #pragma once
 
+#include "read/arithmetic_decoder.hpp"
 #include "read/laz_vlr.hpp"
 
 #include <cstddef>
@@ -12,8 +13,9 @@
 
 namespace lasmesh::laz {
 
-// Decodes the `count` records of the chunk in `bytes` into `out`; throws ChunkError.
+// Decodes the `count` records of the chunk in `bytes` into `out`, with models made in `store`;
+// throws ChunkError.
 void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count,
-                          std::byte* out);
+                          std::byte* out, ModelStore& store);
 
 } // namespace lasmesh::laz

@@ -24,7 +24,7 @@ struct PointwiseItems {
 } // namespace
 
 std::size_t decode_pointwise_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count,
-                                   std::byte* out) {
+                                   std::byte* out, ModelStore& store) {
     if (count == 0) return 0;
     const std::size_t length = format.record_length;
     if (bytes.size() < length)
@@ -37,15 +37,15 @@ std::size_t decode_pointwise_chunk(const Format& format, std::span<const std::by
     for (const Item& item : format.items) {
         const std::byte* first = out + at;
         switch (item.type) {
-        case ItemType::point10: items.point.emplace(first); break;
-        case ItemType::gpstime11: items.time.emplace(first); break;
+        case ItemType::point10: items.point.emplace(first, store); break;
+        case ItemType::gpstime11: items.time.emplace(first, store); break;
         case ItemType::rgb12: items.rgb.emplace(first); break;
-        case ItemType::wavepacket13: items.wave.emplace(first); break;
+        case ItemType::wavepacket13: items.wave.emplace(first, store); break;
         default: items.bytes.emplace(first, item.size); break;
         }
         at += item.size;
     }
-    ArithmeticDecoder dec(bytes.subspan(length));
+    ArithmeticDecoder dec(bytes.subspan(length), store);
     std::byte* record = out;
     for (std::uint64_t i = 1; i < count; ++i) {
         record += length;

@@ -3,6 +3,7 @@
 // item by item (POINT10, GPSTIME11, RGB12, WAVEPACKET13, BYTE) in one arithmetic stream.
 #pragma once
 
+#include "read/arithmetic_decoder.hpp"
 #include "read/laz_vlr.hpp"
 
 #include <cstddef>
@@ -12,8 +13,9 @@
 namespace lasmesh::laz {
 
 // Decodes `count` records from `bytes` into `out` (count * record_length bytes) and returns
-// the compressed bytes the chunk used. Throws ChunkError when the data ends early.
+// the compressed bytes the chunk used; its models are made in `store`. Throws ChunkError when
+// the data ends early.
 std::size_t decode_pointwise_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count,
-                                   std::byte* out);
+                                   std::byte* out, ModelStore& store);
 
 } // namespace lasmesh::laz
