@@ -252,9 +252,11 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // The points slice k could not add yet are added once slice k + 1 is read, before it.
         cl::CommandQueue transfers(ctx, dev.device);
         std::array<cl::Buffer, slots> uploads;
+        std::array<HostMemory, slots> upload_memory; // a CPU device's slices: our memory, in large pages
         std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
         for (std::size_t s = 0; s < slots; ++s)
-            uploads[s] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
+            uploads[s] = host_device ? large_buffer(ctx, upload_memory[s], slice_bytes)
+                                     : cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
         for (std::uint64_t k = 0;; ++k) {
             const std::size_t s = k % slots;
             auto* mapped = static_cast<std::byte*>(
@@ -321,7 +323,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         advise_large_pages(out.cells.data(), out.cells.capacity() * sizeof(CellSums));
         const std::uint64_t words = cell_words(color);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes);
-        std::vector<cl_uint> block(block_bricks * DensityGrid::brick_cells * words);
         auto carry = carries.begin();
         std::array<CellSums, DensityGrid::brick_cells> brick{};
         for (unsigned c = 0; c < chunks.size(); ++c) {
@@ -329,11 +330,13 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             const std::uint64_t in_chunk = used > start ? std::min(layout.chunk_bricks(c), used - start) : 0;
             for (std::uint64_t first = 0; first < in_chunk; first += block_bricks) {
                 const std::uint64_t n = std::min(block_bricks, in_chunk - first);
-                queue.enqueueReadBuffer(chunks[c], CL_TRUE, first * brick_bytes, n * brick_bytes, block.data());
-                chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
+                // Mapped, not read: a CPU device's pool is host memory already, so nothing is copied
+                // (a 16 MiB read buffer cost a memset and 4,096 page faults a run, however small the pool).
+                const auto* block = static_cast<const cl_uint*>(
+                    queue.enqueueMapBuffer(chunks[c], CL_TRUE, CL_MAP_READ, first * brick_bytes, n * brick_bytes));
                 for (std::uint64_t i = 0; i < n; ++i) {
                     const std::uint64_t slot = start + first + i;
-                    const cl_uint* src = block.data() + i * DensityGrid::brick_cells * words;
+                    const cl_uint* src = block + i * DensityGrid::brick_cells * words;
                     for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
                         brick[k].count = src[0];
                         brick[k].position = {src[1], src[2], src[3]};
@@ -350,6 +353,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                     out.brick_first[b] = out.cells.size();
                     out.brick_masks[b] = out.append_occupied(brick);
                 }
+                queue.enqueueUnmapMemObject(chunks[c], const_cast<cl_uint*>(block));
+                queue.finish();
+                chunk_memory[c].release(first * brick_bytes, n * brick_bytes);
             }
             chunks[c] = cl::Buffer();
             chunk_memory[c] = HostMemory();
