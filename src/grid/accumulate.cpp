@@ -251,8 +251,8 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // buffer waits only for the kernels that used it, not for the slice still being added.
         // The points slice k could not add yet are added once slice k + 1 is read, before it.
         cl::CommandQueue transfers(ctx, dev.device);
-        std::array<cl::Buffer, slots> uploads;
         std::array<HostMemory, slots> upload_memory; // a CPU device's slices: our memory, in large pages
+        std::array<cl::Buffer, slots> uploads;       // (released first: declared after their memory)
         std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
         for (std::size_t s = 0; s < slots; ++s)
             uploads[s] = host_device ? large_buffer(ctx, upload_memory[s], slice_bytes)
