@@ -21,6 +21,9 @@ constexpr std::uint32_t sym_length_shift = 15;    // symbol distributions are 15
 constexpr std::uint32_t sym_max_count = 1u << 15;
 constexpr std::uint32_t min_length = 1u << 24; // renormalize below this interval length
 
+class ModelStore;
+struct ModelSize;
+
 // Adaptive binary model: probability of a 0 in 13 bits, refreshed on a growing cycle.
 struct BitModel {
     std::uint32_t bit_0_count = 1;
@@ -41,9 +44,6 @@ struct BitModel {
 // update cycle (8 * (516 + 6)), under 2^16. Half the bytes of 32-bit entries: the models a
 // format-3 point touches (up to 3 KB each for 256 symbols, dozens of them) overflowed the 48 KB
 // L1 cache about 3 times per point (cachegrind).
-class ModelStore;
-struct ModelSize;
-
 class SymbolModel {
 public:
     // A fresh model of `symbols` symbols, its memory from `store` and given back there.
@@ -96,6 +96,7 @@ public:
     ModelStore(const ModelStore&) = delete;
     ModelStore& operator=(const ModelStore&) = delete;
 
+    // The fresh model and the spare memory for models of `symbols` symbols (made on first use).
     ModelSize& size(std::uint32_t symbols);
 
 private:
