@@ -27,12 +27,13 @@ constexpr std::size_t slots = slice_buffers;
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
 
-// The pool keeps the low 32 bits of each sum; an add that carries past them lists the high bits
-// (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per word a
-// run flushes, and at most two kernels' worth of runs (`points_between_reads` points). Over the
-// whole run: word w can list no more than twice its total over 2^32 (once per wrap of its low
-// word, once per add of 2^32 or more), and the totals of all words are at most `points` times
-// the largest a point adds to them. The list needs the smaller of the two.
+// The pool keeps the low 32 bits of each sum; an add that carries past them lists what they did
+// not keep (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per
+// word a run flushes, and at most two kernels' worth of runs (`points_between_reads` points).
+// Over the whole run: word w lists once per add of 2^32 or more and once per wrap of its 32 bits
+// (each at most its total over 2^32), and the second word of a pair once more per wrap of the
+// first (whose 64-bit add spills into it): at most 3 T / 2^32 entries, T the totals of all words,
+// at most `points` times the largest a point adds to them. The list needs the smaller of the two.
 std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads, const std::array<AxisCells, 3>& axes,
                              bool color) {
     unsigned __int128 per_point = 1; // the count
@@ -42,14 +43,14 @@ std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_
         per_point += static_cast<std::uint64_t>(widest);
     }
     if (color) per_point += 3 * 65535;
-    const unsigned __int128 over_run = 2 * (per_point * points >> 32);
+    const unsigned __int128 over_run = (3 * per_point * points >> 32) + 1;
     const std::uint64_t between_reads = points_between_reads * cell_words(color);
     return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
 }
 
-// One listed carry: pool word `key` gets `high` << 32.
+// One listed carry: the 64-bit sum of pool word `key` gets `delta` added (modulo 2^64).
 struct Carry {
-    std::uint64_t key = 0, high = 0;
+    std::uint64_t key = 0, delta = 0;
     bool operator<(const Carry& o) const { return key < o.key; }
 };
 
@@ -104,6 +105,10 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
                               " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
+        // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
+        if (dev.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
+            throw Error(ErrorKind::device, dev.info.name + " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
+                                           "accumulating the grid needs: choose another device (lasmesh devices; --device)");
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
@@ -346,8 +351,10 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                     for (; carry != carries.end() && carry->key < first_key + DensityGrid::brick_cells * words; ++carry) {
                         CellSums& cell = brick[(carry->key - first_key) / words];
                         const std::uint64_t word = (carry->key - first_key) % words;
+                        if (word > 6) // the unused eighth word is never added to
+                            throw Error(ErrorKind::device, "a carry for an unused word of the pool: the kernel is wrong");
                         std::uint64_t& sum = word == 0 ? cell.count : word < 4 ? cell.position[word - 1] : cell.color[word - 4];
-                        sum += carry->high << 32;
+                        sum += carry->delta;
                     }
                     const std::uint64_t b = position_of_slot[slot];
                     out.brick_first[b] = out.cells.size();
