@@ -75,9 +75,9 @@ void add_word(volatile global uint* word, ulong key, ulong value, Carries carrie
 }
 
 // Adds `low` and `high` to the 32-bit words words[0] and words[1] (the pool's words key and
-// key + 1, 8-byte aligned) with one 64-bit atomic: on a CPU device each atomic costs about the
-// same whether or not its line is cached, and a point's atomics were half of its time, so two
-// words an atomic is about 15% off a run (docs/design.md). What the words do not keep is listed:
+// key + 1, 8-byte aligned) with one 64-bit atomic: on a CPU device, when the cell's line is in
+// the cache (a coarse grid), each of a flush's atomics costs about as much as the first, and two
+// words an atomic took 11% off a run at grid 256 (docs/design.md). What the words do not keep is listed:
 // for words[0] the high bits of `low` and its wrap past 2^32, for words[1] the same of `high`
 // less the one the wrap of words[0] spilled into it (the 64-bit add carries from lane to lane).
 void add_two_words(volatile global uint* words, ulong key, ulong low, ulong high, Carries carries) {
