@@ -104,6 +104,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::CommandQueue& queue = dev.queue;
         std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
                               " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
+        // PoCL compiles kernels with clang, whose prefetch builtin is a real one (OpenCL's is not).
+        if (host_device && dev.info.platform.find("Portable Computing Language") != std::string::npos)
+            defines += " -D CPU_PREFETCH";
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
