@@ -189,6 +189,10 @@ struct SheetField {
     const Planes& planes;
     std::array<std::int64_t, 3> points;
     double h;
+    // A corner is defined only within two cells of a plane (the cells it looks at below run from
+    // two below it to one above), so with the lattice `extract` marches (the bricks of corners a
+    // cell below to two above every surface brick's cells) no corner outside it is defined.
+    static constexpr bool undefined_outside_active = true;
 
     // The samples of a block of n^3 corners from `first`, with the planes of the cells they
     // look at (two cells beyond the block each way) looked up once.
