@@ -28,6 +28,7 @@
 #include <bit>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -86,7 +87,9 @@ class SparseMarchingCubes {
 public:
     SparseMarchingCubes(const Field& field, const LatticeBricks& lattice) : f_(field), l_(lattice) {}
 
-    Mesh run(bool colored) {
+    // `sampled`, when given, is called once the field's samplers are done with (after pass 0, for
+    // a field undefined outside the active bricks): what only they read may go.
+    Mesh run(bool colored, const std::function<void()>& sampled = {}) {
         const std::size_t n = l_.active.size();
         // Position of each active brick in `active`, + 1 (0: not active).
         slot_.assign(l_.bricks[0] * l_.bricks[1] * l_.bricks[2], 0);
@@ -120,6 +123,8 @@ public:
             std::copy(block.begin(), block.end(), blocks_.get() + std::size_t{at} * cells);
             block_of_[b] = at;
         });
+        if constexpr (requires { requires Field::undefined_outside_active; })
+            if (sampled) sampled();
         masks_.assign(n, {});
         std::vector<std::uint64_t> vertices_in(n + 1, 0), triangles_in(n + 1, 0);
         const CaseTable& table = case_table();
@@ -371,8 +376,8 @@ inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::
 }
 
 template <class Field>
-Mesh march_sparse(const Field& field, const LatticeBricks& lattice, bool colored) {
-    return SparseMarchingCubes<Field>(field, lattice).run(colored);
+Mesh march_sparse(const Field& field, const LatticeBricks& lattice, bool colored, const std::function<void()>& sampled = {}) {
+    return SparseMarchingCubes<Field>(field, lattice).run(colored, sampled);
 }
 
 } // namespace lasmesh::detail

@@ -313,12 +313,17 @@ struct SheetField {
     }
 };
 
-// `release`, when given, is called once the grid's cells are no longer read.
-Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& release) {
+// `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
+// of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
+// index once the corners are sampled.
+Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     Planes planes(grid, iso);
-    if (release) release();
+    if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
     orient_normals(planes);
+    // The cells' coordinates and counts served the normals only: their memory goes to marching.
+    std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
+    std::vector<std::uint64_t>().swap(planes.count);
     const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
     // Corners are sampled only near surface cells: the bricks that hold one, and their neighbours.
     std::vector<std::uint64_t> surface_bricks;
@@ -327,7 +332,14 @@ Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& r
         if (std::any_of(first, first + std::popcount(grid.brick_masks[b]), [](std::uint32_t p) { return p != no_plane; }))
             surface_bricks.push_back(grid.brick_keys[b]);
     }
-    Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color());
+    // Once sampled, the corners no longer look at cells: what finds a cell's plane may go.
+    const auto sampled = [&] {
+        std::vector<std::uint32_t>().swap(planes.of_record);
+        if (!owned) return;
+        std::vector<std::uint32_t>().swap(owned->brick_index);
+        for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first}) std::vector<std::uint64_t>().swap(*v);
+    };
+    Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color(), sampled);
     agree_normals_with_faces(mesh);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
@@ -336,10 +348,10 @@ Mesh extract(const DensityGrid& grid, double iso, const std::function<void()>& r
 
 } // namespace
 
-Mesh extract_sheet(const DensityGrid& grid, double iso) { return extract(grid, iso, {}); }
+Mesh extract_sheet(const DensityGrid& grid, double iso) { return extract(grid, iso, nullptr); }
 
 Mesh extract_sheet(DensityGrid&& grid, double iso) {
-    return extract(grid, iso, [&grid] { std::vector<CellSums>().swap(grid.cells); });
+    return extract(grid, iso, &grid);
 }
 
 } // namespace lasmesh
