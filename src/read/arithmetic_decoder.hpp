@@ -152,7 +152,7 @@ private:
     // After each decode the interval length must be at least 2^24 again. Usually one byte is
     // due or none, a coin flip a branch would mispredict: that byte is shifted in without a
     // branch, and the rare second or third byte (a symbol of probability under 2^-8) by a loop.
-    void renormalize() {
+    [[gnu::always_inline]] void renormalize() {
         const std::uint32_t due = length_ < min_length ? 1u : 0u;
         const std::uint32_t byte = pos_ < size_ ? std::to_integer<std::uint32_t>(data_[pos_]) : 0u;
         const std::uint32_t shift = 8 * due;
@@ -280,7 +280,7 @@ inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k, ModelStore& store
     return *m;
 }
 
-inline std::uint32_t ArithmeticDecoder::decode_bit(BitModel& m) {
+[[gnu::always_inline]] inline std::uint32_t ArithmeticDecoder::decode_bit(BitModel& m) {
     // 0 below x, 1 above; selected without a branch.
     const std::uint32_t x = m.bit_0_prob * (length_ >> bit_length_shift);
     const std::uint32_t bit = value_ >= x ? 1u : 0u;
@@ -350,7 +350,7 @@ inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint
     return s;
 }
 
-inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
+[[gnu::always_inline]] inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
     length_ >>= bits;
     std::uint32_t sym = value_ / length_;
     value_ -= length_ * sym;
@@ -358,7 +358,7 @@ inline std::uint32_t ArithmeticDecoder::read_short_bits(std::uint32_t bits) {
     return sym;
 }
 
-inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
+[[gnu::always_inline]] inline std::uint32_t ArithmeticDecoder::read_bits(std::uint32_t bits) {
     // More than 19 bits are sent as a low 16-bit part, then the rest (at most 16 bits). Written
     // without recursion so that it inlines: a call that takes the decoder's address would keep
     // the caller's local copy of the decoder in memory instead of registers.
