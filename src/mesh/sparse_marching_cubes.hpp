@@ -2,10 +2,10 @@
 //
 // Passes in the spirit of flying edges (Schroeder et al. 2015), over bricks instead of layers:
 // sample each active brick's own lattice points once, count the vertices and triangles of each
-// brick, prefix-sum the counts in ascending brick order, then fill preallocated arrays. Each brick also keeps a bitmask of the lattice edges
-// that got a vertex, so a triangle finds the vertex of an edge in a neighbouring brick as that
-// brick's first vertex plus a population count: no locks, no hash map, and the same mesh for any
-// number of threads.
+// brick, prefix-sum the counts in ascending brick order, then fill preallocated arrays. Each
+// brick also keeps a bitmask of the lattice edges that got a vertex, so a triangle finds the
+// vertex of an edge in a neighbouring brick as that brick's first vertex plus a population count:
+// no locks, no hash map, and the same mesh for any number of threads.
 //
 // A field may leave samples undefined (far from the data) and may reject a crossing (two samples
 // of opposite sign that belong to surfaces which do not meet): a cube is meshed only when its
@@ -25,8 +25,8 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>

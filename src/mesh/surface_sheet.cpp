@@ -11,7 +11,6 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <functional>
 
 namespace lasmesh {
 
