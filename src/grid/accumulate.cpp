@@ -115,6 +115,17 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
+        // Work-group sizes chosen here, not by the device: PoCL compiles a kernel once for each
+        // work-group size it meets (0.3-2 s), and left to choose it took one from the factors of
+        // each launch's size, so the last slice of a file of a new length often cost a compile.
+        // Launches are whole multiples of 64 (accumulating) or 256 (bricks) work-items.
+        auto group_size = [&](const cl::Kernel& kernel, std::size_t preferred) {
+            const auto most = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev.device);
+            while (preferred > most && preferred > 1) preferred /= 2; // still divides the launch
+            return cl::NDRange(preferred);
+        };
+        const cl::NDRange add_group = group_size(add, 64), add_listed_group = group_size(add_listed, 64),
+                          mark_group = group_size(mark, 256), assign_group = group_size(assign, 256);
 
         cl::Buffer index = large_buffer(ctx, index_memory, bricks * 4);
         if (!host_device) queue.enqueueFillBuffer(index, cl_uint{0}, 0, bricks * 4);
@@ -195,7 +206,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             if (listed == 0) return;
             mark.setArg(0, records);
             mark.setArg(2, listed);
-            queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), cl::NullRange);
+            queue.enqueueNDRangeKernel(mark, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), mark_group);
             cl_uint fresh = 0;
             queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_uint), sizeof fresh, &fresh);
             while (used + fresh > layout.chunk_start(static_cast<unsigned>(chunks.size()))) {
@@ -244,13 +255,13 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 }
                 assign.setArg(1, fresh);
                 assign.setArg(2, static_cast<cl_uint>(used));
-                queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), cl::NullRange);
+                queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), assign_group);
                 used += fresh;
             }
             add_listed.setArg(0, records);
             add_listed.setArg(2, listed);
             const std::size_t items = (listed + run_length - 1) / run_length;
-            queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange);
+            queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), add_listed_group);
             queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 2 * sizeof(cl_uint));
         };
 
@@ -292,7 +303,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             add.setArg(0, uploads[s]);
             add.setArg(1, static_cast<cl_uint>(n));
             const std::size_t items = (n + run_length - 1) / run_length;
-            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), cl::NullRange, &unmapped);
+            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), add_group, &unmapped);
             queue.flush();
         }
         queue.finish();
