@@ -99,40 +99,20 @@ void add_two_words(volatile global uint* words, ulong key, ulong low, ulong high
     if (high_delta) list_carry(carries, key + 1, high_delta);
 }
 
-// Small functions inlined before PoCL turns a work-group into loops: a call left in a loop keeps
-// it from running work-items side by side in vector registers.
-#define INLINE __attribute__((always_inline))
-
 uint load_u16(global const uchar* p) { return (uint)p[0] | ((uint)p[1] << 8); }
 
-typedef struct __attribute__((packed)) {
-    int value;
-} UnalignedInt; // records are not a multiple of 4 bytes long
-
-INLINE int load_i32(global const uchar* p) {
-#ifdef __ENDIAN_LITTLE__
-    return ((global const UnalignedInt*)p)->value; // one load, at any address
-#else
+int load_i32(global const uchar* p) {
     return (int)((uint)p[0] | ((uint)p[1] << 8) | ((uint)p[2] << 16) | ((uint)p[3] << 24));
-#endif
 }
 
 // The cell whose raw range [starts[i], starts[i+1]) holds r, or -1 outside [starts[0], starts[n]).
-// A float estimate lands near the cell and the integer comparisons then decide exactly. When the
-// host proved that the estimate is never more than one cell off on any axis (ESTIMATE_WITHIN_ONE:
-// cells at least a few raw units wide), one step each way suffices and the code has no loop and
-// no branch, so a CPU device runs it for many work-items at once in vector registers.
-INLINE int find_cell(long r, global const long* starts, int n, float cells_per_raw) {
-    const float estimate = clamp((float)(r - starts[0]) * cells_per_raw, 0.0f, (float)(n - 1));
-    int i = (int)estimate;
-#ifdef ESTIMATE_WITHIN_ONE
-    i -= (i > 0) & (r < starts[i]); // `&`, not `&&`: no branch (both sides are safe to evaluate)
-    i += (i < n - 1) & (r >= starts[i + 1]);
-#else
-    while (i > 0 && r < starts[i]) --i;
-    while (i < n - 1 && r >= starts[i + 1]) ++i;
-#endif
-    return (r >= starts[0]) & (r < starts[n]) ? i : -1;
+// A float estimate lands within a cell or two; the integer comparisons then decide exactly.
+int find_cell(long r, global const long* starts, int n, float cells_per_raw) {
+    if (r < starts[0] || r >= starts[n]) return -1;
+    int i = clamp((int)((float)(r - starts[0]) * cells_per_raw), 0, n - 1);
+    while (r < starts[i]) --i;
+    while (r >= starts[i + 1]) ++i;
+    return i;
 }
 
 // The axes' cell starts and sizes, shared by mark_bricks and accumulate.
@@ -147,7 +127,7 @@ INLINE int find_cell(long r, global const long* starts, int n, float cells_per_r
     const int y = find_cell(ry, starts_y, ny, per_raw_y);                                                \
     const int z = find_cell(rz, starts_z, nz, per_raw_z)
 
-INLINE uint brick_of(int x, int y, int z, uint bricks_x, uint bricks_y) {
+uint brick_of(int x, int y, int z, uint bricks_x, uint bricks_y) {
     return ((uint)(z >> BRICK_BITS) * bricks_y + (uint)(y >> BRICK_BITS)) * bricks_x + (uint)(x >> BRICK_BITS);
 }
 
@@ -218,72 +198,45 @@ void flush(volatile global uint* record, ulong key, ulong n, ulong sx, ulong sy,
 #endif
 }
 
-// Where each record of a slice (or of the list, when `listed` is not null) goes: one work-item a
-// record, writing the key of its cell in the pool, (slot * B^3 + cell in brick), or OUTSIDE, or
-// NEW when its brick has no slot yet, and the point's offsets from the cell's start (x, y and z
-// `stride` apart). Straight-line code, so PoCL runs a work-group's items in vector registers: the
-// cell search was half of a run's time when it was done record after record (docs/design.md).
-#define OUTSIDE 0xFFFFFFFFFFFFFFFFul
-#define NEW 0xFFFFFFFFFFFFFFFEul
-
-INLINE void locate_record(global const uchar* records, global const uint* listed, uint i, uint record_length, GRID_ARGS,
-                          global const uint* brick_slot, global ulong* keys, global uint* offsets, uint stride) {
-    const uint r = listed ? listed[i] : i;
-    global const uchar* record = records + (ulong)r * record_length;
-    LOCATE(record, x, y, z, rx, ry, rz);
-    const bool inside = (x >= 0) & (y >= 0) & (z >= 0);
-    const uint slot = brick_slot[inside ? brick_of(x, y, z, bricks_x, bricks_y) : 0] * inside; // loaded either way: no branch
-    const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
-    keys[i] = !inside ? OUTSIDE : slot == 0 ? NEW : (ulong)(slot - 1) * (B * B * B) + in_brick;
-    offsets[i] = (uint)(rx - starts_x[max(x, 0)]);
-    offsets[stride + i] = (uint)(ry - starts_y[max(y, 0)]);
-    offsets[2 * stride + i] = (uint)(rz - starts_z[max(z, 0)]);
-}
-
-// No test of the work-item's index either: the host made the slice and the located buffers long
-// enough for the work-items past the last record, which locate whatever bytes are there (every
-// index they compute is clamped into its array) and whose results nobody reads.
-kernel void locate(global const uchar* records, uint record_length, GRID_ARGS, global const uint* brick_slot,
-                   global ulong* keys, global uint* offsets, uint stride) {
-    const uint i = get_global_id(0);
-    locate_record(records, 0, i, record_length, starts_x, starts_y, starts_z, nx, ny, nz, per_raw_x, per_raw_y,
-                      per_raw_z, bricks_x, bricks_y, brick_slot, keys, offsets, stride);
-}
-
-kernel void locate_listed(global const uchar* records, global const uint* listed, uint count, uint record_length,
-                          GRID_ARGS, global const uint* brick_slot, global ulong* keys, global uint* offsets,
-                          uint stride) {
-    const uint i = min((uint)get_global_id(0), count - 1);
-    locate_record(records, listed, i, record_length, starts_x, starts_y, starts_z, nx, ny, nz, per_raw_x, per_raw_y,
-                      per_raw_z, bricks_x, bricks_y, brick_slot, keys, offsets, stride);
-}
-
-// Adds located records first..end-1 of the slice, or of the list when `listed` is not null (at
-// most RUN). Points whose brick has no slot yet are appended to `deferred` instead (only when
-// reading the slice). Two passes over the run: the first finds each cell's words and fetches
-// their line towards the cache, the second adds the run's sums cell by cell. On a CPU an atomic
-// add waits for its line, and for the atomics before it, so at a fine grid (cells far apart in
-// memory, about one point per cell and flush) one cache miss after another would make the whole
-// cost; fetched ahead, a run's misses overlap (a fine grid 2x faster on PoCL, docs/design.md).
+// Adds records first..end-1 of the slice, or of the list when `listed` is not null (at most RUN).
+// Points whose brick has no slot yet are appended to `deferred` instead (only when reading the
+// slice). Two passes over the run: the first finds each record's cell and fetches its line
+// towards the cache, the second adds the run's sums cell by cell. On a CPU an atomic add waits
+// for its line, and for the atomics before it, so at a fine grid (cells far apart in memory,
+// about one point per cell and flush) one cache miss after another would make the whole cost;
+// fetched ahead, a run's misses overlap (a fine grid 2x faster on PoCL, docs/design.md).
 void accumulate_run(global const uchar* records, global const uint* listed, uint first, uint end, uint record_length,
-                    global const ulong* keys, global const uint* offsets, uint stride, POOL_ARGS, Carries carries,
-                    volatile global uint* stats, global uint* deferred, volatile global uint* deferred_count) {
-    global uint* cells[RUN]; // each record's cell's words in the pool, 0 when outside or its brick is new
+                    GRID_ARGS, global const uint* brick_slot, POOL_ARGS, Carries carries, volatile global uint* stats,
+                    global uint* deferred, volatile global uint* deferred_count) {
+    // Each record's cell: its words in the pool (0 when outside the grid or its brick is new), its
+    // place in the pool's words and the point's offsets from the cell's start.
+    global uint* cells[RUN];
+    ulong keys[RUN];
+    uint offsets[RUN][3];
     uint outside = 0, largest = 0;
     const uint n_records = end - first;
     for (uint k = 0; k < n_records; ++k) {
-        const ulong key = keys[first + k];
+        const uint r = listed ? listed[first + k] : first + k;
+        global const uchar* record = records + (ulong)r * record_length;
+        LOCATE(record, x, y, z, rx, ry, rz);
         cells[k] = 0;
-        if (key == OUTSIDE) {
+        if (x < 0 || y < 0 || z < 0) {
             ++outside;
-        } else if (key == NEW) {
-            if (deferred) deferred[atomic_inc(deferred_count)] = first + k;
-        } else {
-            global uint* cell =
-                brick_words((uint)(key / (B * B * B)), POOL) + (uint)(key % (B * B * B)) * CELL_WORDS;
-            PREFETCH_FOR_WRITE(cell);
-            cells[k] = cell;
+            continue;
         }
+        const uint slot = brick_slot[brick_of(x, y, z, bricks_x, bricks_y)];
+        if (!slot) {
+            if (deferred) deferred[atomic_inc(deferred_count)] = r;
+            continue;
+        }
+        const uint in_brick = (((uint)z & (B - 1)) * B + ((uint)y & (B - 1))) * B + ((uint)x & (B - 1));
+        global uint* cell = brick_words(slot - 1, POOL) + in_brick * CELL_WORDS;
+        PREFETCH_FOR_WRITE(cell);
+        cells[k] = cell;
+        keys[k] = ((ulong)(slot - 1) * (B * B * B) + in_brick) * CELL_WORDS;
+        offsets[k][0] = (uint)(rx - starts_x[x]);
+        offsets[k][1] = (uint)(ry - starts_y[y]);
+        offsets[k][2] = (uint)(rz - starts_z[z]);
     }
     // The current cell and its sums, flushed once per change of cell.
     global uint* cell = 0;
@@ -294,12 +247,12 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
         if (cells[k] != cell) {
             flush(cell, key, n, sx, sy, sz, sr, sg, sb, carries);
             n = sx = sy = sz = sr = sg = sb = 0;
-            cell = cells[k], key = keys[first + k] * CELL_WORDS;
+            cell = cells[k], key = keys[k];
         }
         n += 1;
-        sx += offsets[first + k];
-        sy += offsets[stride + first + k];
-        sz += offsets[2 * stride + first + k];
+        sx += offsets[k][0];
+        sy += offsets[k][1];
+        sz += offsets[k][2];
 #ifdef RGB_OFFSET
         const uint r = listed ? listed[first + k] : first + k;
         global const uchar* record = records + (ulong)r * record_length;
@@ -319,24 +272,23 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
 }
 
 // counters[0]: points deferred; [1]: bricks new (mark_bricks); [2]: carries listed.
-kernel void accumulate(global const uchar* records, uint count, uint record_length, global const ulong* keys,
-                       global const uint* offsets, uint stride, POOL_ARGS, global ulong* carry_list,
-                       uint carry_capacity, volatile global uint* stats, global uint* deferred,
-                       volatile global uint* counters) {
+kernel void accumulate(global const uchar* records, uint count, uint record_length, GRID_ARGS,
+                       global const uint* brick_slot, POOL_ARGS, global ulong* carry_list, uint carry_capacity,
+                       volatile global uint* stats, global uint* deferred, volatile global uint* counters) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
     const Carries carries = {carry_list, counters + 2, carry_capacity};
-    accumulate_run(records, 0, first, min(first + RUN, count), record_length, keys, offsets, stride, POOL, carries,
-                   stats, deferred, counters);
+    accumulate_run(records, 0, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny, nz,
+                   per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, carries, stats, deferred,
+                   counters);
 }
 
 kernel void accumulate_listed(global const uchar* records, global const uint* listed, uint count, uint record_length,
-                              global const ulong* keys, global const uint* offsets, uint stride, POOL_ARGS,
-                              global ulong* carry_list, uint carry_capacity, volatile global uint* stats,
-                              volatile global uint* counters) {
+                              GRID_ARGS, global const uint* brick_slot, POOL_ARGS, global ulong* carry_list,
+                              uint carry_capacity, volatile global uint* stats, volatile global uint* counters) {
     const uint first = get_global_id(0) * RUN;
     if (first >= count) return;
     const Carries carries = {carry_list, counters + 2, carry_capacity};
-    accumulate_run(records, listed, first, min(first + RUN, count), record_length, keys, offsets, stride, POOL,
-                   carries, stats, 0, 0);
+    accumulate_run(records, listed, first, min(first + RUN, count), record_length, starts_x, starts_y, starts_z, nx, ny,
+                   nz, per_raw_x, per_raw_y, per_raw_z, bricks_x, bricks_y, brick_slot, POOL, carries, stats, 0, 0);
 }

@@ -26,11 +26,6 @@ constexpr std::size_t slots = slice_buffers;
 // Records one work-item sums before it flushes: long enough to merge the runs of a scan in
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
-// What `locate` writes per record: its cell's key (64 bits) and three 32-bit offsets.
-constexpr std::uint64_t located_bytes = sizeof(cl_ulong) + 3 * sizeof(cl_uint);
-// `locate` runs one work-item a record, in whole groups of 256 with no test of the index, so the
-// slice buffers and what it writes have room for the records up to the next multiple of 256.
-std::uint64_t padded(std::uint64_t records) { return (records + 255) / 256 * 256; }
 
 // The pool keeps the low 32 bits of each sum; an add that carries past them lists what they did
 // not keep (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per
@@ -51,24 +46,6 @@ std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_
     const unsigned __int128 over_run = (3 * per_point * points >> 32) + 1;
     const std::uint64_t between_reads = points_between_reads * cell_words(color);
     return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
-}
-
-// Whether the kernel's float estimate of a point's cell along this axis (find_cell in
-// kernels/accumulate.cl) is never more than one cell off, so that one step each way finds the
-// cell. The estimate never decreases as the raw value grows, so checking both ends of every cell,
-// computed as the device does (IEEE single precision, correctly rounded), checks every value.
-bool estimate_within_one(const AxisCells& axis, float cells_per_raw) {
-    const std::vector<std::int64_t>& starts = axis.starts;
-    const auto n = static_cast<std::int64_t>(axis.count());
-    auto estimate = [&](std::int64_t raw) {
-        const float cells = static_cast<float>(raw - starts[0]) * cells_per_raw;
-        return static_cast<std::int64_t>(std::clamp(cells, 0.0f, static_cast<float>(n - 1)));
-    };
-    for (std::int64_t i = 0; i < n; ++i) {
-        if (starts[i] == starts[i + 1]) continue; // no raw value falls in this cell
-        if (estimate(starts[i]) < i - 1 || estimate(starts[i + 1] - 1) > i + 1) return false;
-    }
-    return true;
 }
 
 // One listed carry: the 64-bit sum of pool word `key` gets `delta` added (modulo 2^64).
@@ -105,7 +82,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     const std::uint64_t brick_bytes = brick_device_bytes(color);
     const std::uint64_t carry_slots = carry_capacity(reader.records_left(), 2 * slice_records, out.axes, color);
     MemoryNeed fixed = memory_need(out.spec, slice_bytes);
-    fixed.device_bytes += carry_slots * 2 * sizeof(std::uint64_t) + padded(slice_records) * located_bytes;
+    fixed.device_bytes += carry_slots * 2 * sizeof(std::uint64_t);
     std::uint64_t used = 0;
     const PoolLayout layout = pool_layout(std::max<std::uint64_t>(1, max_alloc / brick_bytes));
     std::vector<cl::Buffer> chunks;
@@ -114,7 +91,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     // allocation fails), and nothing needs clearing.
     const bool host_device = dev.info.type == "CPU";
     std::vector<HostMemory> chunk_memory; // the pool's chunks
-    HostMemory index_memory, deferred_memory, new_bricks_memory, keys_memory, offsets_memory;
+    HostMemory index_memory, deferred_memory, new_bricks_memory;
     // A device buffer, or on a CPU device one over host memory we map into `memory` (zeroed).
     auto large_buffer = [&](cl::Context& ctx, HostMemory& memory, std::uint64_t bytes) {
         if (!host_device) return cl::Buffer(ctx, CL_MEM_READ_WRITE, bytes);
@@ -131,21 +108,13 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         if (host_device && dev.info.platform.find("Portable Computing Language") != std::string::npos)
             defines += " -D CPU_PREFETCH";
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
-        std::array<cl_float, 3> cells_per_raw{};
-        bool within_one = true;
-        for (int a = 0; a < 3; ++a) {
-            const double raw_span = static_cast<double>(out.axes[a].starts.back() - out.axes[a].starts.front());
-            cells_per_raw[a] = static_cast<cl_float>(raw_span > 0 ? out.axes[a].count() / raw_span : 0.0);
-            within_one = within_one && estimate_within_one(out.axes[a], cells_per_raw[a]);
-        }
-        if (within_one) defines += " -D ESTIMATE_WITHIN_ONE";
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
             throw Error(ErrorKind::device, dev.info.name + " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
                                            "accumulating the grid needs: choose another device (lasmesh devices; --device)");
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
-        cl::Kernel locate(program, "locate"), add(program, "accumulate"), mark(program, "mark_bricks"),
-            assign(program, "assign_bricks"), locate_listed(program, "locate_listed"), add_listed(program, "accumulate_listed");
+        cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
+            add_listed(program, "accumulate_listed");
         // Work-group sizes chosen here, not by the device: PoCL compiles a kernel once for each
         // work-group size it meets (0.3-2 s), and left to choose it took one from the factors of
         // each launch's size, so the last slice of a file of a new length often cost a compile.
@@ -164,9 +133,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // one per record.
         cl::Buffer deferred = large_buffer(ctx, deferred_memory, slice_records * 4);
         cl::Buffer new_bricks = large_buffer(ctx, new_bricks_memory, slice_records * 4);
-        // Each record's cell (a key in the pool) and offsets from its start, as `locate` found them.
-        cl::Buffer keys = large_buffer(ctx, keys_memory, padded(slice_records) * sizeof(cl_ulong));
-        cl::Buffer offsets = large_buffer(ctx, offsets_memory, padded(slice_records) * 3 * sizeof(cl_uint));
         // Points deferred, bricks new, carries listed.
         cl::Buffer counters(ctx, CL_MEM_READ_WRITE, 3 * sizeof(cl_uint));
         queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 3 * sizeof(cl_uint));
@@ -178,15 +144,16 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         // The grid's arguments (starts, cell counts, cells per raw unit, bricks along x and y) and
         // the index come at the same place in each kernel, after `first` others.
         std::array<cl::Buffer, 3> starts_buffers; // kernel arguments do not keep buffers alive
-        const std::array<std::pair<cl::Kernel*, int>, 3> with_grid{{{&locate, 2}, {&mark, 4}, {&locate_listed, 4}}};
+        const std::array<std::pair<cl::Kernel*, int>, 3> with_grid{{{&add, 3}, {&mark, 4}, {&add_listed, 4}}};
         for (int a = 0; a < 3; ++a) {
             std::vector<cl_long> starts(out.axes[a].starts.begin(), out.axes[a].starts.end());
             starts_buffers[a] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, starts.size() * sizeof(cl_long),
                                            starts.data());
+            const double raw_span = static_cast<double>(starts.back() - starts.front());
             for (const auto& [k, first] : with_grid) {
                 k->setArg(first + a, starts_buffers[a]);
                 k->setArg(first + 3 + a, static_cast<cl_int>(out.axes[a].count()));
-                k->setArg(first + 6 + a, cells_per_raw[a]);
+                k->setArg(first + 6 + a, static_cast<cl_float>(raw_span > 0 ? out.axes[a].count() / raw_span : 0.0));
             }
         }
         for (const auto& [k, first] : with_grid) {
@@ -195,17 +162,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             k->setArg(first + 10, static_cast<cl_uint>(out.bricks[1]));
             k->setArg(first + 11, index);
         }
-        for (const auto& [k, first] : {std::pair{&locate, 14}, std::pair{&locate_listed, 16}, std::pair{&add, 3},
-                                       std::pair{&add_listed, 4}}) {
-            k->setArg(first, keys);
-            k->setArg(first + 1, offsets);
-            k->setArg(first + 2, static_cast<cl_uint>(padded(slice_records)));
-        }
-        add.setArg(2, static_cast<cl_uint>(length));
-        add_listed.setArg(3, static_cast<cl_uint>(length));
         // Then the pool's chunks (null until they exist), the carries, stats, the list of deferred
         // points and the counters.
-        constexpr int pool_arg_add = 6, pool_arg_listed = 7, chunk_args = PoolLayout::max_chunks;
+        constexpr int pool_arg_add = 15, pool_arg_listed = 16, chunk_args = PoolLayout::max_chunks;
         for (int c = 0; c < chunk_args; ++c) {
             add.setArg(pool_arg_add + c, cl::Buffer());
             add_listed.setArg(pool_arg_listed + c, cl::Buffer());
@@ -224,7 +183,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         assign.setArg(0, new_bricks);
         assign.setArg(3, index);
         add_listed.setArg(1, deferred);
-        locate_listed.setArg(1, deferred);
 
         // Every kernel so far has finished: takes the carries they listed, and empties the list.
         auto take_carries = [&](cl_uint listed) {
@@ -300,9 +258,6 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 queue.enqueueNDRangeKernel(assign, cl::NullRange, cl::NDRange((fresh + 255) / 256 * 256), assign_group);
                 used += fresh;
             }
-            locate_listed.setArg(0, records);
-            locate_listed.setArg(2, listed);
-            queue.enqueueNDRangeKernel(locate_listed, cl::NullRange, cl::NDRange((listed + 255) / 256 * 256), cl::NDRange(256));
             add_listed.setArg(0, records);
             add_listed.setArg(2, listed);
             const std::size_t items = (listed + run_length - 1) / run_length;
@@ -319,8 +274,8 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         std::array<cl::Buffer, slots> uploads;       // (released first: declared after their memory)
         std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
         for (std::size_t s = 0; s < slots; ++s)
-            uploads[s] = host_device ? large_buffer(ctx, upload_memory[s], padded(slice_records) * length)
-                                     : cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, padded(slice_records) * length);
+            uploads[s] = host_device ? large_buffer(ctx, upload_memory[s], slice_bytes)
+                                     : cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
         for (std::uint64_t k = 0;; ++k) {
             const std::size_t s = k % slots;
             auto* mapped = static_cast<std::byte*>(
@@ -345,12 +300,10 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
             if (n == 0) break;
             out.points_read += n;
             if (options.on_slice) options.on_slice(out.points_read);
-            locate.setArg(0, uploads[s]);
-            queue.enqueueNDRangeKernel(locate, cl::NullRange, cl::NDRange(padded(n)), cl::NDRange(256), &unmapped);
             add.setArg(0, uploads[s]);
             add.setArg(1, static_cast<cl_uint>(n));
             const std::size_t items = (n + run_length - 1) / run_length;
-            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), add_group);
+            queue.enqueueNDRangeKernel(add, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), add_group, &unmapped);
             queue.flush();
         }
         queue.finish();
