@@ -70,9 +70,11 @@ def main():
     cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
 
     def view(p):  # rotate about z by yaw, then tilt by pitch; screen x right, y up, depth towards viewer
+        # The viewer looks along (0, cos pitch, -sin pitch) in the rotated frame: forward and down,
+        # so a higher point is nearer (at pitch 90, straight down, depth is z).
         x, y, z = p
         x1, y1 = cy * x - sy * y, sy * x + cy * y
-        return x1, cp * z + sp * y1, cp * y1 - sp * z
+        return x1, cp * z + sp * y1, sp * z - cp * y1
 
     used = sorted({i for f in faces for i in f})
     projected = {i: view(positions[i]) for i in used}
