@@ -89,7 +89,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
     // On a CPU device the large buffers are host memory we map ourselves, zeroed and in large
     // pages: a refused allocation is then std::bad_alloc here (PoCL aborts when its own lazy
     // allocation fails), and nothing needs clearing.
-    const bool host_device = dev.info.type == "CPU";
+    const bool host_device = dev.info.type == "CPU" && !options.device_memory;
     std::vector<HostMemory> chunk_memory; // the pool's chunks
     HostMemory index_memory, deferred_memory, new_bricks_memory;
     // A device buffer, or on a CPU device one over host memory we map into `memory` (zeroed).

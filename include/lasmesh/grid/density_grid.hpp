@@ -26,6 +26,9 @@ struct AccumulateOptions {
     std::uint64_t max_memory = 0;   // --max-memory, host and device together; 0: no limit of ours
     std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
     std::uint64_t max_alloc = 0;    // lower the device's maximum allocation (tests); 0: the device's
+    // Use a CPU device as a discrete GPU is used: buffers in the device's own memory, filled and
+    // uploaded by the device, instead of host memory mapped (tests run a GPU's path on PoCL).
+    bool device_memory = false;
     // Called after each slice is read, with the points read so far (progress display).
     std::function<void(std::uint64_t points_read)> on_slice;
 };
