@@ -116,9 +116,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
         // Work-group sizes chosen here, not by the device: PoCL compiles a kernel once for each
-        // work-group size it meets (0.1-0.4 s a run), and left to choose it took one from the factors of
-        // each launch's size, so the last slice of a file of a new length often cost a compile.
-        // Launches are whole multiples of 64 (accumulating) or 256 (bricks) work-items.
+        // work-group size it meets (0.1-0.4 s a run), and left to choose it took one from the
+        // factors of each launch's size, so the last slice of a file of a new length often cost a
+        // compile. Launches are whole multiples of 64 (accumulating) or 256 (bricks) work-items.
         auto group_size = [&](const cl::Kernel& kernel, std::size_t preferred) {
             const auto most = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev.device);
             while (preferred > most && preferred > 1) preferred /= 2; // still divides the launch
