@@ -51,20 +51,17 @@ std::uint64_t peak_rss_bytes() {
 // The real bounds of a file's points, for a second, gridding pass. A pipe's bytes are gone
 // after one pass, so only a regular file can be scanned.
 Bounds scanned_bounds(const std::string& input) {
-    if (input == "-" || !std::filesystem::is_regular_file(input))
-        throw Error(ErrorKind::usage, "scanning the bounds reads the input twice, so it needs a regular file, not \"" +
-                                          input + "\"");
-    LasReader reader(input);
+    LasReader reader(input); // a regular file: check_options made sure
     const ScanResult scan = scan_points(reader);
     return {scan.min, scan.max};
 }
 
 // Writes one output into its temporary file; build_mesh renames them all at the end.
-void write_output(const Mesh& mesh, const OutputRequest& output, const std::string& name, OutputFile& file) {
-    if (output.format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
+void write_output(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name, OutputFile& file) {
+    if (format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
     std::string bytes;
     try {
-        if (output.format == MeshFormat::draco) bytes = encode_draco(mesh, output.draco);
+        if (format == MeshFormat::draco) bytes = encode_draco(mesh, output.draco);
         else bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
     } catch (const Error& e) {
         throw Error(e.kind(), output.path + ": " + e.what());
@@ -82,12 +79,12 @@ std::string mesh_name(const std::string& input) {
 // --max-memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
 // the deck at grids 256-2048, rounded up: the cell's plane, normal and orientation links, the
 // mesh around it; the Draco and glTF encoders' copy of the mesh.
-void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o, const std::string& input,
-                             std::uint64_t in_use_before_grid) {
+void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o, const std::vector<MeshFormat>& formats,
+                             const std::string& input, std::uint64_t in_use_before_grid) {
     std::uint64_t surface_cells = 0;
     for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
     bool encoded = false;
-    for (const OutputRequest& output : o.outputs) encoded = encoded || output.format != MeshFormat::ply;
+    for (const MeshFormat format : formats) encoded = encoded || format != MeshFormat::ply;
     // The grid is released before the outputs are written, so the encoders' copy replaces it.
     const std::uint64_t fixed = 64ull << 20;
     const std::uint64_t need = fixed + std::max(surface_cells * 230 + grid.brick_keys.size() * DensityGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0);
@@ -131,6 +128,41 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
     throw Error(ErrorKind::input, r.input + ": the mesh is empty, nothing written: " + why);
 }
 
+[[noreturn]] void usage_error(const std::string& option, const std::string& what) {
+    throw Error(ErrorKind::usage, what, option);
+}
+
+bool finite_at_least_zero(double value) { return std::isfinite(value) && value >= 0; }
+
+// Every check on the options, before the input is opened: nobody should wait through a read to
+// learn that an output cannot be written or an option makes no sense. Returns each output's format.
+std::vector<MeshFormat> check_options(const std::string& input, const BuildOptions& o) {
+    if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
+    std::vector<MeshFormat> formats;
+    for (const OutputRequest& output : o.outputs) {
+        const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
+        if (!format)
+            usage_error("outputs", "output \"" + output.path + "\": unknown extension, expected .ply, .drc or .glb");
+        formats.push_back(*format);
+    }
+    for (const OutputRequest& output : o.outputs) check_output_folder(output.path);
+    if (!o.report.empty()) check_output_folder(o.report);
+    std::vector<std::pair<std::string, std::string>> paths{{"the input", input}};
+    for (const OutputRequest& output : o.outputs) paths.emplace_back("the output", output.path);
+    if (!o.report.empty()) paths.emplace_back("the report", o.report);
+    check_distinct_files(paths);
+    if (o.scan_bounds && (input == "-" || !std::filesystem::is_regular_file(input)))
+        usage_error("scan_bounds", "scanning the bounds reads the input twice, so it needs a regular file, not \"" + input + "\"");
+    if (o.surface == SurfaceKind::sheet && o.placement != VertexPlacement::surface)
+        usage_error("placement", "vertices on the iso level are for the closed surface only: the sheet places them on the points");
+    if (o.iso && !finite_at_least_zero(*o.iso)) usage_error("iso", "the iso must be a number of points per cell, at least 0");
+    if (!finite_at_least_zero(o.simplify.error)) usage_error("simplify", "the simplification bound must be a length, at least 0");
+    if (!finite_at_least_zero(o.min_piece.value) || (o.min_piece.relative && o.min_piece.value > 1))
+        usage_error("min_piece", "the smallest piece must be a length, or a fraction of the mesh diagonal from 0 to 1");
+    if (o.threads < 0) usage_error("threads", "the thread count must be 0 (all cores) or more");
+    return formats;
+}
+
 } // namespace
 
 std::optional<MeshFormat> format_from_extension(const std::string& path) {
@@ -145,11 +177,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path) {
 BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
     BuildObserver silent;
     BuildObserver& watch = observer ? *observer : silent;
-    if (o.outputs.empty() && !o.keep_mesh) throw Error(ErrorKind::usage, "no output requested: nothing to do");
-    for (const OutputRequest& output : o.outputs) check_output_folder(output.path); // before reading
-    std::vector<std::pair<std::string, std::string>> paths{{"the input", input}};
-    for (const OutputRequest& output : o.outputs) paths.emplace_back("the output", output.path);
-    check_distinct_files(paths);
+    const std::vector<MeshFormat> formats = check_options(input, o); // before reading
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -213,7 +241,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
     r.iso = o.iso ? *o.iso : automatic_iso(grid);
-    if (o.max_memory) check_extraction_memory(grid, r.iso, o, r.input, accumulate.memory_in_use);
+    if (o.max_memory) check_extraction_memory(grid, r.iso, o, formats, r.input, accumulate.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
     // The sheet releases the grid's cells as soon as it no longer reads them.
@@ -244,20 +272,24 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const auto write_start = std::chrono::steady_clock::now();
     const std::string name = mesh_name(input);
     std::vector<std::unique_ptr<OutputFile>> files;
-    for (const OutputRequest& output : o.outputs) {
+    for (std::size_t i = 0; i < o.outputs.size(); ++i) {
+        const OutputRequest& output = o.outputs[i];
         watch.stage_started(BuildStage::write, "writing " + output.path);
         const auto output_start = std::chrono::steady_clock::now();
         files.push_back(std::make_unique<OutputFile>(output.path));
-        write_output(mesh, output, name, *files.back());
+        write_output(mesh, output, formats[i], name, *files.back());
         files.back()->finish();
-        r.outputs.push_back({output.path, 0, seconds_since(output_start)});
+        r.outputs.push_back({output.path, files.back()->bytes(), seconds_since(output_start)});
         watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");
     }
-    commit_all(files);
-    for (OutputReport& output : r.outputs) output.bytes = std::filesystem::file_size(output.path);
     r.write = seconds_since(write_start);
     r.total = seconds_since(start);
     r.peak_rss_bytes = peak_rss_bytes();
+    if (!o.report.empty()) { // renamed with the meshes: the report of a run whose outputs exist
+        files.push_back(std::make_unique<OutputFile>(o.report));
+        files.back()->write(run_report_json(r));
+    }
+    commit_all(files);
     watch.stage_ended(BuildStage::write, r);
     if (o.keep_mesh) result.mesh = std::move(mesh);
     return result;

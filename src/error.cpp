@@ -1,9 +1,12 @@
 // Error: a message plus the kind that selects the exit code.
 #include "lasmesh/error.hpp"
 
+#include <utility>
+
 namespace lasmesh {
 
-Error::Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+Error::Error(ErrorKind kind, const std::string& message, std::string option)
+    : std::runtime_error(message), kind_(kind), option_(std::move(option)) {}
 
 void throw_input_error(const std::string& source, const std::string& what) {
     throw Error(ErrorKind::input, source + ": " + what);

@@ -1,6 +1,7 @@
 // Draco (.drc) and glTF (.glb) output: round trips through the Draco library within the
 // quantization step, exact colours, the local frame kept, deterministic bytes, refusals.
 #include "lasmesh/io/draco_reader.hpp"
+#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/io/gltf_writer.hpp"

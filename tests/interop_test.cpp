@@ -1,6 +1,7 @@
 // Outputs other programs open (issue 13): normals in every format, the plain .glb (names,
 // double-sided material, origin in extras, 16-bit indices), Draco's scalar origin entries.
 #include "lasmesh/io/draco_reader.hpp"
+#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/ply_reader.hpp"

@@ -46,7 +46,7 @@ enum class MeshFormat {
 // that it cannot be written; the file appears complete or not at all (see io/output_file.hpp).
 struct OutputRequest {
     std::string path;
-    MeshFormat format = MeshFormat::ply;
+    std::optional<MeshFormat> format; // default: from the extension (.ply, .drc, .glb)
     bool ascii = false; // ply only
     DracoOptions draco; // draco, and glb with GltfCompression::draco
     GltfCompression glb_compression = GltfCompression::none; // glb only: plain opens everywhere
@@ -79,6 +79,7 @@ struct BuildOptions {
     std::uint64_t slice_bytes = 0;     // largest upload to the device; 0: 16 MiB
     std::uint64_t max_memory = 0;      // refuse grids needing more (host and device); 0: no limit
     std::vector<OutputRequest> outputs;
+    std::string report;                // also write the RunReport as JSON here (run_report_json); empty: none
     bool keep_mesh = false;            // return the mesh in BuildResult (it can be large)
 };
 
@@ -137,11 +138,16 @@ struct BuildObserver {
 // Reads `input` (a LAS path, or "-" for standard input), builds the density grid, extracts the
 // surface, removes small pieces, simplifies, computes normals and writes every output (a .glb's
 // scene, node, mesh and material are named after the input's file name without extension).
-// Throws Error: usage for options that cannot work (no outputs, a grid that does not fit), input
-// for an input that gives no mesh (nothing written then), device or output otherwise.
+// Throws Error: usage for options that cannot work (no outputs, an output path that is the input
+// or another output, an unknown extension, a closed-surface option with the sheet, a grid that
+// does not fit), input for an input that gives no mesh (nothing written then), device or output
+// otherwise. Every check on the options is made before the input is opened.
 BuildResult build_mesh(const std::string& input, const BuildOptions& options, BuildObserver* observer = nullptr);
 
 // The format an output path's extension names (.ply, .drc, .glb, any case), or nullopt.
 std::optional<MeshFormat> format_from_extension(const std::string& path);
+
+// The report as one line of JSON (full precision), the fields in the order of the RunReport.
+std::string run_report_json(const RunReport& report);
 
 } // namespace lasmesh

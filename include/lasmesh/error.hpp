@@ -18,12 +18,16 @@ enum class ErrorKind {
 // the byte offset or record where known, what was expected and what was found.
 class Error : public std::runtime_error {
 public:
-    Error(ErrorKind kind, const std::string& message);
+    // `option`: the field of the options the error is about ("scan_bounds", "outputs"), so that a
+    // front end can name its own spelling of it (the command line's flag); empty when none is.
+    Error(ErrorKind kind, const std::string& message, std::string option = {});
     ErrorKind kind() const noexcept { return kind_; }
     int exit_code() const noexcept { return static_cast<int>(kind_); }
+    const std::string& option() const noexcept { return option_; }
 
 private:
     ErrorKind kind_;
+    std::string option_;
 };
 
 // Shorthand for the most common kind: a problem with an input named `source`.

@@ -2,9 +2,10 @@
 #include "compare_command.hpp"
 #include "option_parsing.hpp"
 
-#include "json.hpp"
+#include "io/json.hpp"
 #include "lasmesh/measure/compare.hpp"
 #include "lasmesh/io/draco_reader.hpp"
+#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/same_file.hpp"

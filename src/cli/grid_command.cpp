@@ -1,7 +1,7 @@
 // `lasmesh grid`: accumulate and report the grid (cells, occupancy, points outside, colour depth).
 #include "grid_command.hpp"
 
-#include "json.hpp"
+#include "io/json.hpp"
 #include "lasmesh/grid/auto_grid.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // `lasmesh info`: text for people, one JSON object with --json.
 #include "info_command.hpp"
 
-#include "json.hpp"
+#include "io/json.hpp"
 #include "lasmesh/read/las_reader.hpp"
 #include "lasmesh/read/las_scan.hpp"
 

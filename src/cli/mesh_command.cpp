@@ -3,8 +3,6 @@
 #include "mesh_command.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/same_file.hpp"
 #include "mesh_observer.hpp"
 #include "mesh_report.hpp"
 #include "option_parsing.hpp"
@@ -86,25 +84,14 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
 
 namespace {
 
-// Checks the outputs' spellings and folders (before reading: nobody should wait to learn
-// this), then converts the option text; usage errors come in the order the checks always had.
+// The option text converted into the library's options; the library checks them (before reading).
 BuildOptions build_options(const MeshOptions& o) {
     if (o.outputs.empty()) throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
     BuildOptions b;
     const GltfCompression glb_compression = parse_glb_compression(o.glb_compression);
     const GltfOrigin glb_origin = parse_glb_origin(o.glb_origin);
-    for (const std::string& path : o.outputs) {
-        const std::optional<MeshFormat> format = format_from_extension(path);
-        if (!format)
-            throw Error(ErrorKind::usage, "-o \"" + path + "\": unknown output extension, expected .ply, .drc or .glb");
-        check_output_folder(path);
-        b.outputs.push_back({path, *format, o.ascii, o.draco, glb_compression, glb_origin});
-    }
-    if (!o.report.empty()) check_output_folder(o.report);
-    std::vector<std::pair<std::string, std::string>> paths{{"the input", o.input}};
-    for (const std::string& path : o.outputs) paths.emplace_back("-o", path);
-    if (!o.report.empty()) paths.emplace_back("--report", o.report);
-    check_distinct_files(paths);
+    for (const std::string& path : o.outputs) b.outputs.push_back({path, std::nullopt, o.ascii, o.draco, glb_compression, glb_origin});
+    b.report = o.report;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
     b.auto_grid = grid_is_auto(o.grid);
@@ -121,7 +108,6 @@ BuildOptions build_options(const MeshOptions& o) {
     b.device = o.grid.device;
     b.threads = o.threads;
     b.scan_bounds = o.grid.scan_bounds;
-    if (b.scan_bounds) check_scan_bounds_input(o.input); // the library's own check names no option
     return b;
 }
 
@@ -135,13 +121,13 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     context.draco = o.draco;
     context.simplify_text = o.simplify;
     context.any_draco = std::any_of(options.outputs.begin(), options.outputs.end(), [](const OutputRequest& out) {
-        return out.format == MeshFormat::draco || (out.format == MeshFormat::glb && out.glb_compression == GltfCompression::draco);
+        const std::optional<MeshFormat> format = format_from_extension(out.path);
+        return format == MeshFormat::draco || (format == MeshFormat::glb && out.glb_compression == GltfCompression::draco);
     });
     options.keep_mesh = context.any_draco && !o.quiet; // the Draco line reports bits and step of the mesh
     MeshObserver observer(summary, o.progress, o.verbose, o.quiet);
     const BuildResult result = build_mesh(o.input, options, &observer);
     observer.clear();
-    if (!o.report.empty()) write_report_json(result.report, o.report);
     context.mesh = result.mesh ? &*result.mesh : nullptr;
     if (!o.quiet) print_summary(result.report, context, summary);
 }

@@ -1,7 +1,7 @@
 // The summary and the --report JSON: same fields, same order, one for people, one for programs.
 #include "mesh_report.hpp"
 
-#include "json.hpp"
+#include "io/json.hpp"
 #include "lasmesh/number_text.hpp"
 #include "lasmesh/io/output_file.hpp"
 
@@ -13,10 +13,6 @@ namespace lasmesh::cli {
 
 namespace {
 
-const char* placement_name(VertexPlacement placement) {
-    return placement == VertexPlacement::iso ? "iso" : "surface";
-}
-
 // "ply", "drc", "glb": the extension as given, lower case, for the per-output timings.
 std::string extension_name(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
@@ -25,38 +21,6 @@ std::string extension_name(const std::string& path) {
 }
 
 } // namespace
-
-void write_report_json(const RunReport& r, const std::string& path) {
-    Json json;
-    json["input"] = r.input;
-    json["device"] = r.device;
-    json["points_read"] = r.points_read;
-    json["points_outside"] = r.points_outside;
-    json["grid"] = {{"dims", r.grid.dims}, {"cell_size", r.grid.cell_size}, {"origin", r.grid.origin}};
-    if (!r.grid_reason.empty()) json["grid"]["reason"] = r.grid_reason;
-    json["iso"] = r.iso;
-    json["iso_auto"] = r.iso_auto;
-    json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
-    json["placement"] = placement_name(r.placement);
-    json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
-                           {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}, {"host_grid_bytes", r.host_grid_bytes}};
-    json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
-    json["simplify"] = {{"triangles_before", r.simplify.triangles_before}, {"triangles_after", r.simplify.triangles_after},
-                        {"error", r.simplify.error}, {"seconds", r.simplify.seconds}};
-    json["vertices"] = r.vertices;
-    json["triangles"] = r.triangles;
-    json["colored"] = r.colored;
-    json["normals"] = r.normals;
-    json["origin"] = r.origin;
-    json["outputs"] = Json::array();
-    for (const OutputReport& output : r.outputs)
-        json["outputs"].push_back({{"path", output.path}, {"bytes", output.bytes}, {"seconds", output.seconds}});
-    json["seconds"] = {{"read_accumulate", r.read_accumulate}, {"extract", r.extract}, {"write", r.write}, {"total", r.total}};
-    json["peak_rss_bytes"] = r.peak_rss_bytes;
-    OutputFile out(path);
-    out.write(json_line(json) + "\n");
-    out.commit();
-}
 
 void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& summary) {
     const auto& s = r.grid;

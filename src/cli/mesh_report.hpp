@@ -1,5 +1,5 @@
-// How the meshing command presents a run: the text summary for people, the --report JSON for
-// pipelines. Both read the library's RunReport; neither changes it.
+// How the meshing command presents a run: the text summary for people (the --report JSON for
+// pipelines is the library's: run_report_json). It reads the library's RunReport.
 #pragma once
 
 #include "lasmesh/build_mesh.hpp"
@@ -20,7 +20,5 @@ struct SummaryContext {
 };
 
 void print_summary(const RunReport& report, const SummaryContext& context, std::ostream& out);
-// Writes `report` as one JSON object to `path` (through OutputFile: complete or absent).
-void write_report_json(const RunReport& report, const std::string& path);
 
 } // namespace lasmesh::cli

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <vector>
 
 namespace lasmesh::cli {
@@ -137,6 +138,16 @@ CLI::Validator positive_number() {
             return "";
         },
         "POSITIVE");
+}
+
+std::string flag_hint(const std::string& option) {
+    static const std::map<std::string, std::string> flags{
+        {"outputs", "-o"},       {"report", "--report"},       {"scan_bounds", "--scan-bounds"}, {"placement", "--placement"},
+        {"iso", "--iso"},        {"simplify", "--simplify"},   {"min_piece", "--min-piece"},     {"threads", "--threads"},
+        {"grid", "--grid"},      {"bounds", "--bounds"},       {"surface", "--surface"},         {"max_memory", "--max-memory"},
+    };
+    const auto flag = flags.find(option);
+    return flag == flags.end() ? std::string() : " (" + flag->second + ")";
 }
 
 } // namespace lasmesh::cli

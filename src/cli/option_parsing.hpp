@@ -37,4 +37,8 @@ GltfOrigin parse_glb_origin(const std::string& text);
 // range 2.2250738585072014e-308 to 1.7976931348623157e+308"; this says what is wanted.
 CLI::Validator positive_number();
 
+// " (--scan-bounds)": the flag that sets the library option an error names (Error::option), to
+// append to its message; empty when the error names none.
+std::string flag_hint(const std::string& option);
+
 } // namespace lasmesh::cli

@@ -10,11 +10,11 @@
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/srgb.hpp"
+#include "io/json.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 
 namespace lasmesh {
 
@@ -22,76 +22,54 @@ namespace {
 
 constexpr int float_type = 5126, uint16_type = 5123, uint32_type = 5125;
 
-// Shortest text that reads back as the same number (floats as floats, doubles as doubles).
-template <typename T>
-std::string number(T value) {
+// A float as the double whose shortest text is the float's shortest text (0.1f as 0.1, not
+// 0.10000000149011612): the same float reads back, in fewer bytes.
+double float_value(float value) {
     char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-
-template <typename T>
-std::string array(const std::vector<T>& values) {
-    std::string text = "[";
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        if (i) text += ',';
-        text += number(values[i]);
-    }
-    return text + ']';
-}
-
-// A JSON string: the name comes from a file name, which may hold quotes or control characters.
-std::string quoted(const std::string& text) {
-    std::string out = "\"";
-    for (const char c : text) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            char escape[8];
-            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned char>(c));
-            out += escape;
-        } else {
-            out += c;
-        }
-    }
-    return out + '"';
+    const char* end = std::to_chars(text, text + sizeof text, value).ptr;
+    double exact = 0;
+    std::from_chars(text, end, exact);
+    return exact;
 }
 
 bool small_indices(const Mesh& mesh) { return mesh.positions.size() <= 65535; } // 65535 is restart
 
 // What the accessors describe: the mesh itself (plain), or the decoded Draco mesh, whose vertex
-// order and count may differ from the encoded one.
-std::string position_accessor(const Mesh& m, const std::string& view) {
-    std::vector<float> lo(3), hi(3);
+// order and count may differ from the encoded one. glTF requires POSITION's bounds.
+Json position_accessor(const Mesh& m) {
+    Json lo = Json::array(), hi = Json::array();
     for (int c = 0; c < 3; ++c) {
-        lo[c] = hi[c] = m.positions[0][c];
-        for (const auto& p : m.positions) {
-            lo[c] = std::min(lo[c], p[c]);
-            hi[c] = std::max(hi[c], p[c]);
-        }
+        float low = m.positions[0][c], high = low;
+        for (const auto& p : m.positions) low = std::min(low, p[c]), high = std::max(high, p[c]);
+        lo.push_back(float_value(low)), hi.push_back(float_value(high));
     }
-    return "{" + view + "\"componentType\":" + std::to_string(float_type) + ",\"count\":" +
-           std::to_string(m.positions.size()) + ",\"type\":\"VEC3\",\"min\":" + array(lo) + ",\"max\":" + array(hi) + "}";
+    return {{"componentType", float_type}, {"count", m.positions.size()}, {"type", "VEC3"}, {"min", lo}, {"max", hi}};
 }
 
 struct Layout {
-    std::string attributes, accessors, views, primitive_extension, extensions;
+    Json attributes = Json::object(), accessors = Json::array(), views = Json::array();
+    Json primitive_extensions; // null when none
+    bool draco = false;
     std::string bin;
-    int indices = 0; // the accessor of the indices, after those of the attributes
+    std::size_t indices = 0; // the accessor of the indices, after those of the attributes
 };
 
 // Vertex arrays and indices in the BIN chunk, each a 4-byte aligned buffer view.
 Layout plain_layout(const Mesh& mesh) {
     Layout l;
     const std::size_t n = mesh.positions.size();
-    int view = 0;
-    auto add_view = [&](const std::string& bytes, int target, int stride) {
-        l.views += (view ? "," : "") + std::string("{\"buffer\":0,\"byteOffset\":") + std::to_string(l.bin.size()) +
-                   ",\"byteLength\":" + std::to_string(bytes.size()) +
-                   (stride ? ",\"byteStride\":" + std::to_string(stride) : "") + ",\"target\":" + std::to_string(target) + "}";
+    // An accessor on a new buffer view holding `bytes`, the view first in the accessor's keys.
+    auto add = [&](const std::string& attribute, const std::string& bytes, int target, int stride, Json accessor) {
+        Json view = {{"buffer", 0}, {"byteOffset", l.bin.size()}, {"byteLength", bytes.size()}};
+        if (stride) view["byteStride"] = stride;
+        view["target"] = target;
+        Json with_view = {{"bufferView", l.views.size()}};
+        with_view.update(accessor);
+        l.views.push_back(view);
         l.bin += bytes;
         l.bin.resize((l.bin.size() + 3) / 4 * 4, '\0');
-        return "\"bufferView\":" + std::to_string(view++) + ",";
+        if (!attribute.empty()) l.attributes[attribute] = l.accessors.size();
+        l.accessors.push_back(with_view);
     };
     auto floats = [&](const std::vector<std::array<float, 3>>& values) {
         std::string bytes(12 * values.size(), '\0');
@@ -99,24 +77,17 @@ Layout plain_layout(const Mesh& mesh) {
             for (int c = 0; c < 3; ++c) store_le<float>(reinterpret_cast<std::byte*>(bytes.data() + 12 * i + 4 * c), values[i][c]);
         return bytes;
     };
-    int accessor = 0;
-    l.attributes = "\"POSITION\":" + std::to_string(accessor++);
-    l.accessors = position_accessor(mesh, add_view(floats(mesh.positions), 34962, 0));
-    if (!mesh.normals.empty()) {
-        l.attributes += ",\"NORMAL\":" + std::to_string(accessor++);
-        l.accessors += ",{" + add_view(floats(mesh.normals), 34962, 0) + "\"componentType\":" + std::to_string(float_type) +
-                       ",\"count\":" + std::to_string(n) + ",\"type\":\"VEC3\"}";
-    }
+    add("POSITION", floats(mesh.positions), 34962, 0, position_accessor(mesh));
+    if (!mesh.normals.empty())
+        add("NORMAL", floats(mesh.normals), 34962, 0, {{"componentType", float_type}, {"count", n}, {"type", "VEC3"}});
     if (!mesh.colors.empty()) {
         std::string bytes(8 * n, '\0'); // three words and two bytes of padding per vertex
         for (std::size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c)
                 store_le<std::uint16_t>(reinterpret_cast<std::byte*>(bytes.data() + 8 * i + 2 * c), srgb8_to_linear16(mesh.colors[i][c]));
-        l.attributes += ",\"COLOR_0\":" + std::to_string(accessor++);
-        l.accessors += ",{" + add_view(bytes, 34962, 8) + "\"componentType\":" + std::to_string(uint16_type) +
-                       ",\"normalized\":true,\"count\":" + std::to_string(n) + ",\"type\":\"VEC3\"}";
+        add("COLOR_0", bytes, 34962, 8, {{"componentType", uint16_type}, {"normalized", true}, {"count", n}, {"type", "VEC3"}});
     }
-    l.indices = accessor;
+    l.indices = l.accessors.size();
     const bool small = small_indices(mesh);
     const std::size_t width = small ? 2 : 4;
     std::string bytes(width * 3 * mesh.triangles.size(), '\0');
@@ -126,14 +97,14 @@ Layout plain_layout(const Mesh& mesh) {
             if (small) store_le<std::uint16_t>(at, static_cast<std::uint16_t>(mesh.triangles[t][c]));
             else store_le<std::uint32_t>(at, mesh.triangles[t][c]);
         }
-    l.accessors += ",{" + add_view(bytes, 34963, 0) + "\"componentType\":" + std::to_string(small ? uint16_type : uint32_type) +
-                   ",\"count\":" + std::to_string(bytes.size() / width) + ",\"type\":\"SCALAR\"}";
+    add("", bytes, 34963, 0, {{"componentType", small ? uint16_type : uint32_type}, {"count", bytes.size() / width}, {"type", "SCALAR"}});
     return l;
 }
 
 // The Draco stream alone in the BIN chunk; accessors without buffer views.
 Layout draco_layout(const Mesh& mesh, const DracoOptions& options) {
     Layout l;
+    l.draco = true;
     l.bin = encode_draco(mesh, options, DracoColor::linear16);
     Mesh decoded;
     try {
@@ -142,57 +113,59 @@ Layout draco_layout(const Mesh& mesh, const DracoOptions& options) {
         throw Error(ErrorKind::output, e.what()); // a Draco bug: not the user's input
     }
     if (decoded.positions.empty()) throw Error(ErrorKind::output, "the Draco stream holds no vertices");
-    const std::string points = std::to_string(decoded.positions.size());
-    const bool color = !decoded.colors.empty(), normal = !decoded.normals.empty();
-    std::string ids = "\"POSITION\":" + std::to_string(draco_position_id);
-    l.attributes = "\"POSITION\":0";
-    l.accessors = position_accessor(decoded, "");
-    int accessor = 1;
-    if (color) {
-        ids += ",\"COLOR_0\":" + std::to_string(draco_color_id);
-        l.attributes += ",\"COLOR_0\":" + std::to_string(accessor++);
-        l.accessors += ",{\"componentType\":" + std::to_string(uint16_type) + ",\"normalized\":true,\"count\":" + points +
-                       ",\"type\":\"VEC3\"}";
+    const std::size_t points = decoded.positions.size();
+    Json ids = {{"POSITION", draco_position_id}};
+    l.attributes["POSITION"] = 0;
+    l.accessors.push_back(position_accessor(decoded));
+    if (!decoded.colors.empty()) {
+        ids["COLOR_0"] = draco_color_id;
+        l.attributes["COLOR_0"] = l.accessors.size();
+        l.accessors.push_back({{"componentType", uint16_type}, {"normalized", true}, {"count", points}, {"type", "VEC3"}});
     }
-    if (normal) {
-        ids += ",\"NORMAL\":" + std::to_string(draco_normal_id);
-        l.attributes += ",\"NORMAL\":" + std::to_string(accessor++);
-        l.accessors += ",{\"componentType\":" + std::to_string(float_type) + ",\"count\":" + points + ",\"type\":\"VEC3\"}";
+    if (!decoded.normals.empty()) {
+        ids["NORMAL"] = draco_normal_id;
+        l.attributes["NORMAL"] = l.accessors.size();
+        l.accessors.push_back({{"componentType", float_type}, {"count", points}, {"type", "VEC3"}});
     }
-    l.indices = accessor;
-    l.accessors += ",{\"componentType\":" + std::to_string(small_indices(decoded) ? uint16_type : uint32_type) +
-                   ",\"count\":" + std::to_string(3 * decoded.triangles.size()) + ",\"type\":\"SCALAR\"}";
-    l.views = "{\"buffer\":0,\"byteOffset\":0,\"byteLength\":" + std::to_string(l.bin.size()) + "}";
-    l.primitive_extension = ",\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":0,\"attributes\":{" + ids + "}}}";
-    l.extensions = "\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],"
-                   "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],";
+    l.indices = l.accessors.size();
+    l.accessors.push_back({{"componentType", small_indices(decoded) ? uint16_type : uint32_type},
+                           {"count", 3 * decoded.triangles.size()}, {"type", "SCALAR"}});
+    l.views.push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", l.bin.size()}});
+    l.primitive_extensions = {{"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", ids}}}};
     return l;
 }
 
-std::string json(const Mesh& mesh, const GltfOptions& options, const Layout& l, std::size_t bin_bytes) {
+std::string gltf_json(const Mesh& mesh, const GltfOptions& options, const Layout& l, std::size_t bin_bytes) {
     const double h = std::sqrt(0.5);
     const Vec3& o = mesh.origin;
-    const std::vector<double> gltf_origin{o[0], o[2], -o[1]};
-    std::string extras = "\"extras\":{\"origin\":" + array(std::vector<double>{o[0], o[1], o[2]}) +
-                         ",\"origin_gltf\":" + array(gltf_origin);
-    if (mesh.cell_size > 0) extras += ",\"cell_size\":" + number(mesh.cell_size);
-    extras += "}";
-    const std::string name = "\"name\":" + quoted(options.name);
+    const Json gltf_origin = {o[0], o[2], -o[1]};
+    Json extras = {{"origin", {o[0], o[1], o[2]}}, {"origin_gltf", gltf_origin}};
+    if (mesh.cell_size > 0) extras["cell_size"] = mesh.cell_size;
+    // The name comes from a file name: bytes that are not UTF-8 are read as Latin-1 (glTF's JSON
+    // must be UTF-8), so "d\xe9ck" is "déck".
+    const std::string name = utf8_or_latin1(options.name);
 
-    std::string j = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"lasmesh\"},";
-    j += l.extensions;
-    j += "\"scene\":0,\"scenes\":[{" + name + ",\"nodes\":[0]," + extras + "}],";
-    j += "\"nodes\":[{" + name + ",\"mesh\":0,\"rotation\":" + array(std::vector<double>{-h, 0, 0, h});
-    if (options.origin == GltfOrigin::node) j += ",\"translation\":" + array(gltf_origin);
-    j += "," + extras + "}],";
-    j += "\"meshes\":[{" + name + ",\"primitives\":[{\"attributes\":{" + l.attributes + "},\"indices\":" +
-         std::to_string(l.indices) + ",\"material\":0,\"mode\":4" +
-         l.primitive_extension + "}]}],";
-    j += "\"materials\":[{" + name + ",\"pbrMetallicRoughness\":{\"metallicFactor\":0,\"roughnessFactor\":1},\"doubleSided\":true}],";
-    j += "\"accessors\":[" + l.accessors + "],";
-    j += "\"bufferViews\":[" + l.views + "],";
-    j += "\"buffers\":[{\"byteLength\":" + std::to_string(bin_bytes) + "}]}";
-    return j;
+    Json j = {{"asset", {{"version", "2.0"}, {"generator", "lasmesh"}}}};
+    if (l.draco) {
+        j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+        j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    }
+    j["scene"] = 0;
+    j["scenes"] = {{{"name", name}, {"nodes", {0}}, {"extras", extras}}};
+    Json node = {{"name", name}, {"mesh", 0}, {"rotation", {-h, 0, 0, h}}};
+    if (options.origin == GltfOrigin::node) node["translation"] = gltf_origin;
+    node["extras"] = extras;
+    j["nodes"] = {node};
+    Json primitive = {{"attributes", l.attributes}, {"indices", l.indices}, {"material", 0}, {"mode", 4}};
+    if (!l.primitive_extensions.is_null()) primitive["extensions"] = l.primitive_extensions;
+    j["meshes"] = {{{"name", name}, {"primitives", {primitive}}}};
+    j["materials"] = {{{"name", name},
+                       {"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 1}}},
+                       {"doubleSided", true}}};
+    j["accessors"] = l.accessors;
+    j["bufferViews"] = l.views;
+    j["buffers"] = {{{"byteLength", bin_bytes}}};
+    return json_text(j);
 }
 
 // A GLB chunk: length, type, data padded to 4 bytes with `pad`.
@@ -211,7 +184,7 @@ std::string encode_glb(const Mesh& mesh, const GltfOptions& options) {
     const Layout layout = options.compression == GltfCompression::draco ? draco_layout(mesh, options.draco) : plain_layout(mesh);
     if (layout.bin.size() > 0xFFFFFFF0u) throw Error(ErrorKind::output, "the mesh is too large for a GLB file (4 GiB)");
     const std::string body =
-        chunk(0x4E4F534A, json(mesh, options, layout, layout.bin.size()), ' ') + chunk(0x004E4942, layout.bin, '\0');
+        chunk(0x4E4F534A, gltf_json(mesh, options, layout, layout.bin.size()), ' ') + chunk(0x004E4942, layout.bin, '\0');
     if (body.size() + 12 > 0xFFFFFFFFu) throw Error(ErrorKind::output, "the mesh is too large for a GLB file (4 GiB)");
     std::string header(12, '\0');
     header.replace(0, 4, "glTF");

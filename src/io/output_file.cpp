@@ -102,6 +102,7 @@ void OutputFile::fail(const std::string& doing) {
 
 void OutputFile::write(const void* data, std::size_t size) {
     if (size && std::fwrite(data, 1, size, file_) != size) fail("writing");
+    bytes_ += size;
 }
 
 void OutputFile::finish() {

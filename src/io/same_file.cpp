@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace lasmesh {
 
@@ -19,13 +20,21 @@ std::string canonical_name(const std::string& path) {
     return (error ? p.parent_path() : folder).string() + "/" + p.filename().string();
 }
 
+// "-" is standard input: a file redirected into it (`lasmesh - -o in.ply < in.ply`) is still the
+// file, and must not be overwritten by the run that reads it.
+bool identity(const std::string& path, struct stat& s) {
+    if (path == "-") return ::fstat(STDIN_FILENO, &s) == 0 && S_ISREG(s.st_mode);
+    return ::stat(path.c_str(), &s) == 0;
+}
+
 } // namespace
 
 bool same_file(const std::string& a, const std::string& b) {
     struct stat sa {}, sb {};
-    const bool a_exists = ::stat(a.c_str(), &sa) == 0, b_exists = ::stat(b.c_str(), &sb) == 0;
+    const bool a_exists = identity(a, sa), b_exists = identity(b, sb);
     if (a_exists && b_exists) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     if (a_exists != b_exists) return false;
+    if (a == "-" || b == "-") return false; // a pipe or terminal, or nothing: no file to lose
     return canonical_name(a) == canonical_name(b);
 }
 
@@ -34,7 +43,7 @@ void check_distinct_files(const std::vector<std::pair<std::string, std::string>>
         for (std::size_t j = i + 1; j < paths.size(); ++j) {
             const auto& [role_a, a] = paths[i];
             const auto& [role_b, b] = paths[j];
-            if (a == "-" || b == "-" || !same_file(a, b)) continue;
+            if (!same_file(a, b)) continue;
             throw Error(ErrorKind::usage, role_b + " \"" + b + "\" and " + role_a + " \"" + a +
                                               "\" are the same file: writing one would destroy the other; "
                                               "give each output a path of its own");

@@ -86,7 +86,7 @@ expect "corrupt zstd" 2 'corrupt.las.zst: corrupt or truncated zstd stream' "$L 
 expect "empty stdin" 2 'standard input: is empty, expected a LAS file' "$L - < /dev/null"
 expect "directory" 2 'folder: is a directory, expected a LAS file' "$L folder"
 expect "missing file" 2 'missing.las: cannot open: No such file or directory' "$L missing.las"
-expect "unknown output extension" 1 '-o "out.obj": unknown output extension, expected .ply, .drc or .glb' "$L ok.las -o out.obj"
+expect "unknown output extension" 1 'output "out.obj": unknown extension, expected .ply, .drc or .glb (-o)' "$L ok.las -o out.obj"
 # The output folder is checked before the input is opened: a missing input is not reported.
 expect "missing output folder" 4 'no/such/x.ply: the folder no/such does not exist' "$L missing.las -o no/such/x.ply"
 expect "output folder is a file" 4 'ok.las/x.ply: the folder ok.las does not exist' "$L ok.las -o ok.las/x.ply"
@@ -108,7 +108,7 @@ expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 65536"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
   "OCL_ICD_VENDORS=$dir/folder $L ok.las"
-expect "--scan-bounds on a pipe" 1 '--scan-bounds reads the input twice, so it needs a regular file' "cat ok.las | $L - --scan-bounds"
+expect "--scan-bounds on a pipe" 1 'scanning the bounds reads the input twice, so it needs a regular file, not "-" (--scan-bounds)' "cat ok.las | $L - --scan-bounds"
 # The kernel build failure (the build log in the message) cannot be caused from the command line:
 # tests/accumulate_test.cpp builds a broken kernel through the same function.
 
@@ -139,13 +139,18 @@ check "closed stdout pipe is named" grep -qF "cannot write to standard output" e
 
 # Data loss: an output over the input or over another output is refused before reading.
 cp ok.las in.ply
-expect "output is the input" 1 '-o "in.ply" and the input "in.ply" are the same file' "$L in.ply -o in.ply"
+expect "output is the input" 1 'the output "in.ply" and the input "in.ply" are the same file' "$L in.ply -o in.ply"
 check "the input is untouched" cmp -s ok.las in.ply
-expect "--report over the input" 1 '--report "ok.las" and the input "ok.las" are the same file' "$L ok.las --report ok.las"
+expect "--report over the input" 1 'the report "ok.las" and the input "ok.las" are the same file' "$L ok.las --report ok.las"
 check "the input is untouched by --report" cmp -s ok.las in.ply
-expect "-o and --report on one path" 1 '--report "./out.ply" and -o "out.ply" are the same file' "$L ok.las --report ./out.ply"
+expect "-o and --report on one path" 1 'the report "./out.ply" and the output "out.ply" are the same file' "$L ok.las --report ./out.ply"
+expect_exactly "standard input redirected from the output" 1 '"in.ply" and the input "-" are the same file' "$L - -o in.ply < in.ply"
+check "the input read through standard input is untouched" cmp -s ok.las in.ply
+cp ok.las piped.ply
+"$lasmesh" - -o piped.ply --grid 16 -q < <(cat piped.ply) 2> /dev/null
+check "a pipe into standard input is no file to protect: the output is written" test "$(head -c 3 piped.ply)" = ply
 ln ok.las hardlink.ply
-expect "output is a hard link to the input" 1 '-o "hardlink.ply" and the input "ok.las" are the same file' "$L ok.las -o hardlink.ply"
+expect "output is a hard link to the input" 1 'the output "hardlink.ply" and the input "ok.las" are the same file' "$L ok.las -o hardlink.ply"
 cp m.ply m-copy.ply
 expect_exactly "--heatmap over the cloud" 1 '--heatmap "in.ply" and the input "in.ply" are the same file' "$L compare m.ply in.ply --heatmap in.ply"
 expect_exactly "--heatmap over the mesh" 1 '--heatmap "m.ply" and the mesh "m.ply" are the same file' "$L compare m.ply ok.las --heatmap m.ply"

@@ -1,5 +1,5 @@
-// Reading back the .drc and .glb files lasmesh writes, into a Mesh in the file's local frame:
-// for the tests and for `lasmesh compare`.
+// Reading back the .drc files lasmesh writes (and other Draco meshes), into a Mesh in the file's
+// local frame: for the tests and for `lasmesh compare`. The .glb reader is in gltf_reader.hpp.
 #pragma once
 
 #include "lasmesh/mesh.hpp"
@@ -18,9 +18,5 @@ Mesh decode_draco(std::string_view bytes, const std::string& name);
 // A .drc file; throws Error (input) "<path>: ...".
 Mesh read_draco(const std::string& path);
 
-// A .glb as write_glb writes it: the first mesh's Draco-compressed primitive, its attributes found
-// by the unique ids the KHR_draco_mesh_compression extension names, and the origin from the node's
-// translation (undoing the Z-up to Y-up rotation). Throws Error (input) "<path>: ...".
-Mesh read_glb(const std::string& path);
 
 } // namespace lasmesh

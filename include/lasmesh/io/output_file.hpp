@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -27,12 +28,14 @@ public:
     // finish(), then renames the file to its final path; throws Error (output).
     void commit();
     const std::string& path() const { return path_; }
+    std::uint64_t bytes() const { return bytes_; } // written so far
 
 private:
     [[noreturn]] void fail(const std::string& doing);
     std::string path_, temporary_;
     std::unique_ptr<char[]> buffer_; // stdio's buffer for file_: 1 MiB, fewer write calls
     std::FILE* file_ = nullptr;
+    std::uint64_t bytes_ = 0;
     bool committed_ = false;
 };
 

@@ -9,11 +9,12 @@
 namespace lasmesh {
 
 // True when `a` and `b` name one file: the same device and inode when both exist (links and
-// different spellings included), else the same canonical folder and file name.
+// different spellings included), else the same canonical folder and file name. "-" stands for
+// standard input: the file redirected into it, if it is a regular file.
 bool same_file(const std::string& a, const std::string& b);
 
 // Each entry is (role, path), e.g. ("-o", "out.ply") or ("the input", "in.las"); "-" (standard
-// input or output) is skipped. Throws Error (usage) naming both roles and paths when two entries
+// input) is the file redirected into it, when one is. Throws Error (usage) naming both roles and paths when two entries
 // are the same file. Call it before reading anything.
 void check_distinct_files(const std::vector<std::pair<std::string, std::string>>& paths);
 
