@@ -75,31 +75,60 @@ std::string mesh_name(const std::string& input) {
     return input == "-" || stem.empty() ? "lasmesh" : stem;
 }
 
+// The surface cells (count above the iso) of `grid`, and of the grid with cells twice as large
+// (2 x 2 x 2 merged): how the surface shrinks with the grid, which at sparse grids (a few points a
+// cell) is far slower than the square of the grid a dense surface follows.
+std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const DensityGrid& grid, double iso) {
+    std::uint64_t fine = 0;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> coarse; // (coarse cell, count)
+    coarse.reserve(grid.cells.size());
+    const std::uint64_t nx = (grid.spec.dims[0] + 1) / 2, ny = (grid.spec.dims[1] + 1) / 2;
+    grid.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
+        fine += static_cast<double>(grid.cells[r].count) > iso;
+        coarse.emplace_back((std::uint64_t(at[2] / 2) * ny + std::uint64_t(at[1] / 2)) * nx + std::uint64_t(at[0] / 2), grid.cells[r].count);
+    });
+    std::sort(coarse.begin(), coarse.end());
+    std::uint64_t coarser = 0;
+    for (std::size_t i = 0; i < coarse.size();) {
+        std::uint64_t count = 0;
+        const std::uint64_t key = coarse[i].first;
+        for (; i < coarse.size() && coarse[i].first == key; ++i) count += coarse[i].second;
+        coarser += static_cast<double>(count) > iso;
+    }
+    return {fine, coarser};
+}
+
 // Refuses, before extracting, a surface whose extraction and outputs would take the run past
-// --max-memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
+// max_memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
 // the deck at grids 256-2048, rounded up: the cell's plane, normal and orientation links, the
 // mesh around it; the Draco and glTF encoders' copy of the mesh.
 void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o, const std::vector<MeshFormat>& formats,
                              const std::string& input, std::uint64_t in_use_before_grid) {
-    std::uint64_t surface_cells = 0;
-    for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
     bool encoded = false;
     for (const MeshFormat format : formats) encoded = encoded || format != MeshFormat::ply;
     // The grid is released before the outputs are written, so the encoders' copy replaces it.
     const std::uint64_t fixed = 64ull << 20;
-    const std::uint64_t need = fixed + std::max(surface_cells * 230 + grid.brick_keys.size() * DensityGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0);
+    const auto need_for = [&](double surface_cells, double bricks) {
+        return std::max(surface_cells * 230 + bricks * DensityGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0.0);
+    };
+    std::uint64_t surface_cells = 0;
+    for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
+    const double need = static_cast<double>(fixed) + need_for(double(surface_cells), double(grid.brick_keys.size()));
     const std::uint64_t in_use = resident_bytes();
-    if (in_use + need <= o.max_memory) return;
-    // The grid and what meshing it takes both shrink with the surface: the square of the grid.
-    const std::uint64_t base = std::min(in_use_before_grid, in_use) + fixed;
-    const double room = o.max_memory > base ? static_cast<double>(o.max_memory - base) : 0.0;
-    const double shrink = std::sqrt(room / static_cast<double>(in_use + need - base));
+    if (static_cast<double>(in_use) + need <= static_cast<double>(o.max_memory)) return;
+    // The grid that fits: the surface (and the grid held while meshing it) shrink as the grid to
+    // the power measured from this grid to the one twice as coarse, at most 2 (a dense surface).
+    const auto [fine, coarser] = surface_cells_and_coarser(grid, iso);
+    const double power = fine > 0 && coarser > 0 ? std::clamp(std::log2(double(fine) / double(coarser)), 0.25, 2.0) : 2.0;
+    const double base = static_cast<double>(std::min(in_use_before_grid, in_use) + fixed);
+    const double room = std::max(0.0, static_cast<double>(o.max_memory) - base);
+    const double shrink = std::pow(room / std::max(1.0, static_cast<double>(in_use) + need - base), 1 / power);
     const std::uint32_t longest = std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]});
     const auto fit = static_cast<std::uint32_t>(std::floor(longest * std::min(0.9, 0.9 * shrink)));
     throw Error(ErrorKind::usage, input + ": the grid " + std::to_string(grid.spec.dims[0]) + "x" +
                                       std::to_string(grid.spec.dims[1]) + "x" + std::to_string(grid.spec.dims[2]) +
-                                      " does not fit: its " + std::to_string(surface_cells) +
-                                      " surface cells need about " + mebibytes(need) + " to mesh and write besides the " +
+                                      " does not fit: its " + std::to_string(surface_cells) + " surface cells need about " +
+                                      mebibytes(static_cast<std::uint64_t>(need)) + " to mesh and write besides the " +
                                       mebibytes(in_use) + " in use, more than --max-memory (" + mebibytes(o.max_memory) + ")" +
                                       (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") + " (nothing was written)");
 }

@@ -114,9 +114,8 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
         g.axes[a] = lasmesh::axis_cells(spec, a, g.scale[a], g.offset[a]);
         g.bricks[a] = static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
     }
-    g.brick_index.assign(std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2], 0);
     // Brick by brick in ascending order, each brick's occupied cells in the order of their bits.
-    for (std::uint64_t key = 0; key < g.brick_index.size(); ++key) {
+    for (std::uint64_t key = 0; key < std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2]; ++key) {
         std::array<lasmesh::CellSums, DensityGrid::brick_cells> brick{};
         for (unsigned bit = 0; bit < DensityGrid::brick_cells; ++bit) {
             const auto c = g.cell_in_brick(key, bit);
@@ -133,10 +132,10 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
         const std::uint64_t mask = g.append_occupied(brick);
         if (mask == 0) continue;
         g.brick_keys.push_back(key);
-        g.brick_index[key] = static_cast<std::uint32_t>(g.brick_keys.size());
         g.brick_masks.push_back(mask);
         g.brick_first.push_back(first);
     }
+    g.index_bricks();
     return g;
 }
 

@@ -138,6 +138,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 3 * sizeof(cl_uint));
         cl::Buffer carry_list(ctx, CL_MEM_READ_WRITE, carry_slots * 2 * sizeof(cl_ulong));
         std::vector<Carry> carries;
+        std::vector<std::uint32_t> slot_keys; // the brick in each slot of the pool
         cl::Buffer stats(ctx, CL_MEM_READ_WRITE, 4 * sizeof(cl_uint));
         queue.enqueueFillBuffer(stats, cl_uint{0}, 0, 4 * sizeof(cl_uint));
 
@@ -244,6 +245,12 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                 add_listed.setArg(pool_arg_listed + static_cast<int>(c), chunks.back());
             }
             if (fresh > 0) {
+                // Which brick each new slot holds, in the order assign_bricks gives them slots:
+                // the host never reads the whole index back (its size is the grid's volume).
+                slot_keys.resize(used + fresh);
+                std::vector<cl_uint> keys(fresh);
+                queue.enqueueReadBuffer(new_bricks, CL_TRUE, 0, fresh * sizeof(cl_uint), keys.data());
+                std::copy(keys.begin(), keys.end(), slot_keys.begin() + static_cast<std::ptrdiff_t>(used));
                 // The new bricks start at zero: host memory is mapped zeroed; device chunks are not
                 // cleared when made, only as they are used.
                 for (unsigned c = 0; !host_device && c < chunks.size(); ++c) {
@@ -318,16 +325,18 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         out.color_max_word = stat_words[2];
 
         // The occupied bricks in ascending order of position, whatever order the device met them in.
-        out.brick_index.resize(bricks);
-        queue.enqueueReadBuffer(index, CL_TRUE, 0, bricks * 4, out.brick_index.data());
+        std::vector<std::uint64_t> slot_of_position(used);
+        for (std::uint64_t slot = 0; slot < used; ++slot) slot_of_position[slot] = slot;
+        std::sort(slot_of_position.begin(), slot_of_position.end(),
+                  [&](std::uint64_t a, std::uint64_t b) { return slot_keys[a] < slot_keys[b]; });
         std::vector<std::uint64_t> position_of_slot(used);
-        for (std::uint64_t b = 0; b < bricks; ++b) {
-            std::uint32_t& at = out.brick_index[b];
-            if (at == 0) continue;
-            position_of_slot[at - 1] = out.brick_keys.size();
-            out.brick_keys.push_back(b);
-            at = static_cast<std::uint32_t>(out.brick_keys.size());
+        out.brick_keys.resize(used);
+        for (std::uint64_t b = 0; b < used; ++b) {
+            position_of_slot[slot_of_position[b]] = b;
+            out.brick_keys[b] = slot_keys[slot_of_position[b]];
         }
+        std::vector<std::uint32_t>().swap(slot_keys);
+        out.index_bricks();
         // Read the pool back chunk by chunk in slot order, releasing each chunk once read, so the
         // device's copy shrinks while the host's grows. The host keeps only the cells that hold a
         // point, each brick's where the slot order puts it (DensityGrid says how to find them).

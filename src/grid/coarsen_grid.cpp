@@ -41,7 +41,6 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
     fine_of_coarse.reserve(fine.brick_keys.size());
     for (std::size_t b = 0; b < fine.brick_keys.size(); ++b) fine_of_coarse.emplace_back(coarse_key(fine.brick_keys[b]), b);
     std::sort(fine_of_coarse.begin(), fine_of_coarse.end());
-    coarse.brick_index.assign(std::uint64_t{coarse.bricks[0]} * coarse.bricks[1] * coarse.bricks[2], 0);
     std::array<CellSums, DensityGrid::brick_cells> sums{};
     for (std::size_t i = 0; i < fine_of_coarse.size();) {
         const std::uint64_t key = fine_of_coarse[i].first;
@@ -65,10 +64,10 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
             }
         }
         coarse.brick_keys.push_back(key);
-        coarse.brick_index[key] = static_cast<std::uint32_t>(coarse.brick_keys.size());
         coarse.brick_first.push_back(coarse.cells.size());
         coarse.brick_masks.push_back(coarse.append_occupied(sums));
     }
+    coarse.index_bricks();
     return coarse;
 }
 

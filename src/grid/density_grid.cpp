@@ -8,6 +8,21 @@
 
 namespace lasmesh {
 
+BrickTable::BrickTable(const std::vector<std::uint64_t>& keys) {
+    std::size_t capacity = 16; // at most half full: short probes
+    while (capacity < 2 * keys.size()) capacity *= 2;
+    shift_ = 64 - std::countr_zero(capacity);
+    keys_.assign(capacity, empty);
+    values_.assign(capacity, 0);
+    const std::size_t mask = capacity - 1;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        std::size_t at = slot(keys[i]);
+        while (keys_[at] != empty) at = (at + 1) & mask;
+        keys_[at] = keys[i];
+        values_[at] = static_cast<std::uint32_t>(i + 1);
+    }
+}
+
 std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 4; }
 
 std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cells>& brick) {
@@ -39,7 +54,7 @@ std::uint64_t DensityGrid::fullest_cell() const {
 }
 
 std::uint64_t DensityGrid::host_bytes() const {
-    return brick_index.size() * sizeof(std::uint32_t) + brick_keys.size() * 3 * sizeof(std::uint64_t) + cells.size() * sizeof(CellSums);
+    return brick_table.bytes() + brick_keys.size() * 3 * sizeof(std::uint64_t) + cells.size() * sizeof(CellSums);
 }
 
 Rgb8 DensityGrid::mean_color(const CellSums& cell) const {

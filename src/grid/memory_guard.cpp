@@ -110,8 +110,9 @@ MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {
     // The index, the slices, the lists of points deferred and of bricks new in a slice (at most
     // one per record of 20 bytes or more), and the pool's first chunk (up to 1024 bricks).
     need.device_bytes = index_bytes + slice_buffers * slice_bytes + 2 * (slice_bytes / 4) + first_chunk_bytes(grid);
-    // The index read back; the slices are mapped device memory.
-    need.host_bytes = index_bytes;
+    // The host keeps a table of the occupied bricks only (counted with the pool); the slices are
+    // mapped device memory.
+    need.host_bytes = 0;
     return need;
 }
 

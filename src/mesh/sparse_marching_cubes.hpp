@@ -92,8 +92,7 @@ public:
     Mesh run(bool colored, const std::function<void()>& sampled = {}) {
         const std::size_t n = l_.active.size();
         // Position of each active brick in `active`, + 1 (0: not active).
-        slot_.assign(l_.bricks[0] * l_.bricks[1] * l_.bricks[2], 0);
-        for (std::size_t b = 0; b < n; ++b) slot_[l_.active[b]] = static_cast<std::uint32_t>(b + 1);
+        slot_ = BrickTable(l_.active);
 
         // Pass 0: the samples at each active brick's own B^3 lattice points. A brick's cubes also
         // need its neighbours' points next to it: taken from here, each point sampled once
@@ -226,7 +225,7 @@ private:
                         const std::array<std::int64_t, 3> brick{origin[0] / B + dx, origin[1] / B + dy, origin[2] / B + dz};
                         const bool in_lattice = brick[0] >= 0 && brick[1] >= 0 && brick[2] >= 0 && brick[0] < l.bricks[0] &&
                                                 brick[1] < l.bricks[1] && brick[2] < l.bricks[2];
-                        const std::uint32_t slot = in_lattice ? owner.slot_[l.key(brick[0], brick[1], brick[2])] : 0;
+                        const std::uint32_t slot = in_lattice ? owner.slot_.find(l.key(brick[0], brick[1], brick[2])) : 0;
                         const std::uint32_t block = slot ? owner.block_of_[slot - 1] : no_block;
                         const StoredSample* from = block != no_block ? owner.blocks_.get() + std::size_t{block} * cells : nullptr;
                         // An active brick without a block has no defined sample.
@@ -328,7 +327,7 @@ private:
     };
 
     std::uint32_t vertex_id(std::int64_t x, std::int64_t y, std::int64_t z, int axis) const {
-        const std::uint64_t b = slot_[l_.key(x / B, y / B, z / B)] - 1;
+        const std::uint64_t b = slot_.find(l_.key(x / B, y / B, z / B)) - 1;
         const int bit = static_cast<int>((((z % B) * B + y % B) * B + x % B) * 3 + axis);
         const auto& mask = masks_[b];
         std::uint64_t before = 0;
@@ -339,7 +338,7 @@ private:
 
     const Field& f_;
     const LatticeBricks& l_;
-    std::vector<std::uint32_t> slot_;
+    BrickTable slot_;
     std::vector<std::array<std::uint64_t, 3>> masks_;
     // Pass 0's samples: B^3 a block (x fastest), the block of active brick b at block_of_[b].
     static constexpr std::uint32_t no_block = UINT32_MAX;

@@ -257,7 +257,7 @@ struct SheetField {
         for (std::int64_t bz = lo[2]; bz <= hi[2]; ++bz)
             for (std::int64_t by = lo[1]; by <= hi[1]; ++by)
                 for (std::int64_t bx = lo[0]; bx <= hi[0]; ++bx) {
-                    const std::uint32_t at = g.brick_index[(std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx)];
+                    const std::uint32_t at = g.brick_table.find((std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx));
                     if (at == 0) continue;
                     // The brick's planes by cell (its records hold only the occupied cells).
                     std::array<std::uint32_t, DensityGrid::brick_cells> records;
@@ -314,7 +314,7 @@ struct SheetField {
 
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
-// index once the corners are sampled.
+// table once the corners are sampled.
 Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
@@ -335,7 +335,7 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     const auto sampled = [&] {
         std::vector<std::uint32_t>().swap(planes.of_record);
         if (!owned) return;
-        std::vector<std::uint32_t>().swap(owned->brick_index);
+        owned->brick_table = BrickTable();
         for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first}) std::vector<std::uint64_t>().swap(*v);
     };
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color(), sampled);

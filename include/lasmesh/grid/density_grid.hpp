@@ -42,6 +42,34 @@ struct CellSums {
     std::array<std::uint64_t, 3> color{}; // sums of the stored 16-bit R, G, B words
 };
 
+// Bricks by linear key (x fastest): an open-addressing hash table with linear probing, so that
+// looking a brick up takes memory and set-up time that follow the occupied bricks, not the volume
+// the grid spans (a dense index over a 4096 x 4096 x 1024 grid took a gigabyte and most of a
+// run's time for 20,000 points).
+class BrickTable {
+public:
+    BrickTable() = default;
+    // keys[i] (unique) finds i + 1.
+    explicit BrickTable(const std::vector<std::uint64_t>& keys);
+    // The value of `key`, or 0 when it is not in the table.
+    std::uint32_t find(std::uint64_t key) const {
+        if (keys_.empty()) return 0;
+        const std::size_t mask = keys_.size() - 1;
+        for (std::size_t at = slot(key);; at = (at + 1) & mask) {
+            if (keys_[at] == key) return values_[at];
+            if (keys_[at] == empty) return 0;
+        }
+    }
+    std::uint64_t bytes() const { return keys_.size() * (sizeof(std::uint64_t) + sizeof(std::uint32_t)); }
+
+private:
+    static constexpr std::uint64_t empty = ~std::uint64_t{0}; // no brick has this key
+    std::size_t slot(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+    int shift_ = 63;
+    std::vector<std::uint64_t> keys_;
+    std::vector<std::uint32_t> values_;
+};
+
 struct DensityGrid {
     // Cells per brick edge: 4 measured best on the deck (docs/benchmarks.md, "Sparse grid").
     static constexpr int brick_bits = 2;
@@ -53,14 +81,14 @@ struct DensityGrid {
     std::array<AxisCells, 3> axes; // each axis's cell starts in raw LAS integers
     Vec3 scale{1, 1, 1}, offset{}; // the LAS header's, to turn raw sums into coordinates
     std::array<std::uint32_t, 3> bricks{};
-    // Only the cells that hold a point are kept. Per brick (x fastest): 0 when none of its cells
-    // holds a point, else 1 + its position b in brick_keys, the occupied bricks' linear indices in
-    // ascending order. Occupied brick b has its cells' bits set in brick_masks[b] (bit
+    // Only the cells that hold a point are kept. brick_table finds each occupied brick's linear
+    // index (x fastest) and gives 1 + its position b in brick_keys, the occupied bricks' linear
+    // indices in ascending order. Occupied brick b has its cells' bits set in brick_masks[b] (bit
     // (z * B + y) * B + x for the cell at (x, y, z) inside it), and their records at
     // cells[brick_first[b]], one after the other in the order of the bits. The bricks' runs of
     // records lie in `cells` in no particular order (the device's): anything whose result depends
     // on the order visits the cells with for_each_cell, which goes by brick_keys.
-    std::vector<std::uint32_t> brick_index;
+    BrickTable brick_table; // made from brick_keys once they are complete (index_bricks)
     std::vector<std::uint64_t> brick_keys;
     std::vector<std::uint64_t> brick_masks;
     std::vector<std::uint64_t> brick_first;
@@ -85,7 +113,7 @@ struct DensityGrid {
         return c ? c->count : 0;
     }
     // The index in `cells` of cell (x, y, z), or no_record when no point fell in it or it lies
-    // outside the grid (from the brick index and masks alone: the cells themselves may be gone).
+    // outside the grid (from the brick table and masks alone: the cells themselves may be gone).
     static constexpr std::uint64_t no_record = ~std::uint64_t{0};
     std::uint64_t record_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
         if (x < 0 || y < 0 || z < 0 || x >= std::int64_t{spec.dims[0]} || y >= std::int64_t{spec.dims[1]} ||
@@ -93,7 +121,7 @@ struct DensityGrid {
             return no_record;
         const std::uint64_t brick =
             (std::uint64_t(z >> brick_bits) * bricks[1] + std::uint64_t(y >> brick_bits)) * bricks[0] + std::uint64_t(x >> brick_bits);
-        const std::uint32_t at = brick_index[brick];
+        const std::uint32_t at = brick_table.find(brick);
         if (at == 0) return no_record;
         const std::int64_t m = brick_size - 1;
         const unsigned bit = unsigned(((z & m) * brick_size + (y & m)) * brick_size + (x & m));
@@ -121,10 +149,12 @@ struct DensityGrid {
     // Appends the cells of `brick` that hold a point to `cells`, in the order of their bits, and
     // returns its mask (brick_masks' form); its first record is the size of `cells` before.
     std::uint64_t append_occupied(const std::array<CellSums, brick_cells>& brick);
+    // Makes brick_table from brick_keys.
+    void index_bricks() { brick_table = BrickTable(brick_keys); }
     std::uint64_t occupied_cells() const;
     std::uint64_t fullest_cell() const; // the most points in one cell (0 for an empty grid)
     std::uint64_t median_count() const; // the median points in a cell that holds any (0 for none)
-    // Bytes the grid holds on the host: the brick index, the occupied bricks and their cells.
+    // Bytes the grid holds on the host: the brick table, the occupied bricks and their cells.
     std::uint64_t host_bytes() const;
     // The average colour of a cell's points as 8-bit sRGB (rounded); black for an empty cell.
     Rgb8 mean_color(const CellSums& cell) const;
@@ -132,8 +162,7 @@ struct DensityGrid {
     Vec3 centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const;
 };
 
-// Bytes the grid needs before the first point: the brick index on the device and the host, and
-// the slices. The pool of bricks grows with the surface and is checked as it grows.
+// Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows with the surface and is checked as it grows.
 struct MemoryNeed {
     std::uint64_t device_bytes = 0;
     std::uint64_t host_bytes = 0;
