@@ -133,28 +133,49 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
                                       (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") + " (nothing was written)");
 }
 
-// Why the mesh came out empty, and what to try: the step that removed the last triangle.
+// Far more points a cell than --grid auto aims at: the grid is much coarser than the points.
+constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
+
+// Why the mesh came out empty, and what to try: the step that removed the last triangle, and
+// whether the grid suits the points at all (the usual cause when pieces are all removed).
 [[noreturn]] void empty_mesh_error(const RunReport& r, std::uint64_t fullest, std::size_t extracted) {
-    std::string why;
+    std::string why, option;
+    const std::string dims = std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) + " x " +
+                             std::to_string(r.grid.dims[2]);
+    const std::string cells = dims + " cells of " + four_digits(r.grid.cell_size);
+    const bool too_coarse = double(r.median_count) > too_coarse_points_per_cell;
+    const bool too_fine = r.median_count <= 1;
     if (r.points_read == r.points_outside) {
         why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
               std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
+    } else if (extracted == 0 && !(double(fullest) > r.iso)) {
+        why = "the iso " + shortest(r.iso) + " points per cell leaves no cell: the fullest holds " + std::to_string(fullest) +
+              " points: try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
+        option = "iso";
+    } else if (too_coarse) {
+        why = "the grid (" + cells + ") is far too coarse for these points: its " + std::to_string(r.occupied_cells) +
+              " occupied cells hold a median of " + std::to_string(r.median_count) +
+              " points each; give a finer --grid (at most " + std::to_string(max_grid_cells) +
+              " cells an axis), or --bounds around each part of the data when they lie far apart";
+        option = "grid";
+    } else if (too_fine) {
+        why = "the grid (" + cells + ") is too fine for the points' density: its occupied cells hold a median of " +
+              std::to_string(r.median_count) + " point, so no surface holds together; give a coarser --grid, or --grid auto";
+        option = "grid";
     } else if (extracted == 0) {
-        why = "the iso " + shortest(r.iso) + " points per cell left nothing: the fullest cell holds " +
-              std::to_string(fullest) + " points";
-        const std::string dims = std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) + " x " +
-                                 std::to_string(r.grid.dims[2]);
-        if (double(fullest) >= r.iso) why += ": try a higher --iso";
-        else if (r.iso_auto) why += "; the grid (" + dims + " cells) is too fine for the point density: try a coarser --grid";
-        else why += ": try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
+        why = "no surface was found in the " + std::to_string(r.occupied_cells) + " occupied cells (a median of " +
+              std::to_string(r.median_count) + " points each): try a coarser --grid than " + dims;
+        option = "grid";
     } else if (r.pieces.removed > 0 && r.pieces.triangles_removed >= extracted) {
         why = "--min-piece removed all " + std::to_string(r.pieces.removed) + " pieces (" +
               std::to_string(r.pieces.triangles_removed) + " triangles), each smaller than a diagonal of " +
               shortest(r.pieces.min_diagonal) + ": try a smaller --min-piece, or --min-piece 0 to keep every piece";
+        option = "min_piece";
     } else {
         why = "--simplify removed every triangle: try a smaller --simplify, or --simplify 0";
+        option = "simplify";
     }
-    throw Error(ErrorKind::input, r.input + ": the mesh is empty, nothing written: " + why);
+    throw Error(ErrorKind::input, r.input + ": the mesh is empty, nothing written: " + why, option);
 }
 
 [[noreturn]] void usage_error(const std::string& option, const std::string& what) {
@@ -257,10 +278,17 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
     const std::uint64_t fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
     r.occupied_cells = grid.occupied_cells();
+    r.median_count = grid.median_count();
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     r.host_grid_bytes = grid.host_bytes();
     if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
+    if (double(r.median_count) > too_coarse_points_per_cell)
+        r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) +
+                             " x " + std::to_string(r.grid.dims[2]) + " cells of " + four_digits(r.grid.cell_size) +
+                             ") is far too coarse for these points: its " + std::to_string(r.occupied_cells) +
+                             " occupied cells hold a median of " + std::to_string(r.median_count) +
+                             " points each; a finer --grid, or --bounds around each part of the data, resolves them");
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +
                  megabytes(r.pool_bytes) + " of bricks in " +

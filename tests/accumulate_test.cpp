@@ -48,6 +48,13 @@ AccumulateOptions grid_of(const std::string& text) {
     return o;
 }
 
+// Exactly this grid: cells of `cell` from `origin`, `dims` of them.
+AccumulateOptions exact_grid(Vec3 origin, double cell, std::array<std::uint32_t, 3> dims) {
+    AccumulateOptions o;
+    o.spec = GridSpec{origin, cell, dims};
+    return o;
+}
+
 // The reference: decode every point on the host and find its cell by the documented rule (the
 // largest i with x >= origin + i * cell; the last cell closed at the top), in plain loops.
 struct Reference {
@@ -118,7 +125,7 @@ lasgen::GeneratedPoint at(double x, double y, double z, lasgen::Rgb8 color = {10
 
 TEST_CASE("points at known positions: cell faces, the upper bound, and outside") {
     test::TempDir dir;
-    // Bounds 4 x 2 x 2 with --grid 4: unit cells, 4 x 2 x 2 of them.
+    // Unit cells from the origin, 4 x 2 x 2 of them.
     const std::vector<lasgen::GeneratedPoint> points = {
         at(0, 0, 0, {255, 0, 0}),      // the lower corner: cell (0,0,0)
         at(1, 0, 0, {0, 255, 0}),      // on the face between cells 0 and 1: the upper cell
@@ -129,7 +136,7 @@ TEST_CASE("points at known positions: cell faces, the upper bound, and outside")
         at(-0.01, 1, 1),               // just below: outside
     };
     test::write_file(dir.file("known.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
-    const DensityGrid sparse = accumulate_file(dir.file("known.las"), grid_of("4"));
+    const DensityGrid sparse = accumulate_file(dir.file("known.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
     const test::DenseGrid g = test::dense(sparse);
     CHECK(sparse.spec.dims == std::array<std::uint32_t, 3>{4, 2, 2});
     CHECK(sparse.spec.cell_size == 1.0);
@@ -331,7 +338,9 @@ TEST_CASE("degenerate extents still give a valid grid") {
         for (int i = 0; i <= 10; ++i) points.push_back(at(i, i / 2.0, 3));
         test::write_file(dir.file("flat.las"), las_with_points(points, {0, 0, 3}, {10, 5, 3}));
         const DensityGrid g = accumulate_file(dir.file("flat.las"), grid_of("10"));
-        CHECK(g.spec.dims == std::array<std::uint32_t, 3>{10, 5, 1});
+        // 10 cells of 10 / 9 along x; 5 / (10 / 9) + 1 rounded up along y; z flat, in one cell.
+        CHECK(g.spec.dims == std::array<std::uint32_t, 3>{10, 6, 1});
+        CHECK(g.spec.origin[2] == doctest::Approx(3 - 5.0 / 9)); // the plane in the middle of its cells
         CHECK(g.points_outside == 0);
         check_equal(g, reference_grid(dir.file("flat.las"), g.spec));
     }
@@ -353,9 +362,11 @@ TEST_CASE("--bounds, --voxel and explicit dimensions") {
     options.grid = voxel_request(0.5);
     options.bounds = Bounds{{0, -1, -1}, {5, 1, 1}};
     const DensityGrid g = accumulate_file(dir.file("line.las"), options);
-    CHECK(g.spec.dims == std::array<std::uint32_t, 3>{10, 4, 4});
+    // Half a cell to spare each side: 11 x 5 x 5 cells from (-0.25, -1.25, -1.25) to (5.25, 1.25, 1.25).
+    CHECK(g.spec.dims == std::array<std::uint32_t, 3>{11, 5, 5});
+    CHECK(g.spec.origin[0] == -0.25);
     CHECK(!g.has_color());
-    CHECK(g.points_outside == 49); // x = 0.0 .. 5.0 are inside (5.0 on the closed top face); 5.1 .. 9.9 are not
+    CHECK(g.points_outside == 47); // x = 0.0 .. 5.2 are inside; 5.3 .. 9.9 are not
     check_equal(g, reference_grid(dir.file("line.las"), g.spec));
 
     options.grid = parse_grid_request("20x4x4");
@@ -420,7 +431,7 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
     const std::vector<lasgen::GeneratedPoint> points = {at(0.1, 0.2, 0.3), at(0.2, 0.4, 0.6), at(0.3, 0.6, 0.9),
                                                         at(3.25, 1.5, 1.75), at(4, 2, 2)};
     test::write_file(dir.file("m.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
-    const DensityGrid g = accumulate_file(dir.file("m.las"), grid_of("4"));
+    const DensityGrid g = accumulate_file(dir.file("m.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
     const CellSums* first = g.find(0, 0, 0);
     REQUIRE(first != nullptr);
     CHECK(first->count == 3);
@@ -476,10 +487,12 @@ TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the
 TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating at twice the cell gives") {
     test::TempDir dir;
     write_scene(dir.file("t.las"), lasgen::SceneKind::torus, 30000, 9);
-    // 64 and 32 cells over the same bounds: the same origin, cells of h and exactly 2h.
-    const DensityGrid fine = accumulate_file(dir.file("t.las"), grid_of("64"));
-    const DensityGrid direct = accumulate_file(dir.file("t.las"), grid_of("32"));
-    REQUIRE(fine.spec.dims[0] % 2 == 0);
+    // Cells of h = 0.2 and exactly 2h from one origin, every axis even: merged fine cells are
+    // the coarse cells.
+    const Vec3 origin{-5.1, -5.1, -2.3};
+    const DensityGrid fine = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {52, 52, 24}));
+    const DensityGrid direct = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.4, {26, 26, 12}));
+    REQUIRE(fine.points_outside == 0);
     const DensityGrid merged = coarsen_grid(fine);
     CHECK(merged.spec.dims == direct.spec.dims);
     CHECK(merged.spec.cell_size == direct.spec.cell_size);
@@ -490,7 +503,7 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     CHECK(merged.median_count() >= fine.median_count());
 
     // An odd axis: its last coarse cell covers the fine grid's last cell and ends where it ended.
-    const DensityGrid odd = accumulate_file(dir.file("t.las"), grid_of("63"));
+    const DensityGrid odd = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {63, 52, 24}));
     const DensityGrid odd_merged = coarsen_grid(odd);
     CHECK(odd_merged.spec.dims[0] == 32);
     CHECK(odd_merged.axes[0].starts.back() == odd.axes[0].starts.back());

@@ -101,6 +101,7 @@ struct RunReport {
     SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface;
     std::uint64_t occupied_cells = 0, occupied_bricks = 0, pool_bytes = 0; // the sparse grid
+    std::uint64_t median_count = 0;    // the median points in an occupied cell
     std::uint64_t host_grid_bytes = 0; // the grid as the host keeps it: occupied cells only
     PieceCount pieces;
     SimplifyReport simplify;           // triangles before and after, the bound in file units, seconds

@@ -15,6 +15,13 @@ inline std::string shortest(double value) {
     return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
 
+// Four significant digits, for lengths and other measured values people read (0.1191, 977.5).
+inline std::string four_digits(double value) {
+    std::ostringstream text;
+    text << std::setprecision(4) << value;
+    return text.str();
+}
+
 inline std::string two_digits(double value) {
     std::ostringstream text;
     text << std::setprecision(2) << value;

@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
         if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output (closed pipe or full disk?)");
         return 0;
     } catch (const lasmesh::Error& e) {
-        std::cerr << "lasmesh: " << e.what() << lasmesh::cli::flag_hint(e.option()) << '\n';
+        std::cerr << "lasmesh: " << e.what() << lasmesh::cli::flag_hint(e.option(), e.what()) << '\n';
         return e.exit_code();
     } catch (const std::bad_alloc&) {
         std::cerr << "lasmesh: out of memory: the system refused more (a smaller --grid needs less; with --max-memory "

@@ -19,8 +19,8 @@ namespace {
 std::uint32_t parse_cells(const std::string& part, const std::string& whole) {
     std::uint32_t value = 0;
     auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
-    if (ec != std::errc() || end != part.data() + part.size() || value == 0 || value > 65536)
-        usage_error("--grid \"" + whole + "\": expected N or NXxNYxNZ with whole numbers from 1 to 65536");
+    if (ec != std::errc() || end != part.data() + part.size() || value == 0 || value > max_grid_cells)
+        usage_error("--grid \"" + whole + "\": expected N or NXxNYxNZ with whole numbers from 1 to " + std::to_string(max_grid_cells) + " (cells per axis)");
     return value;
 }
 
@@ -140,14 +140,15 @@ CLI::Validator positive_number() {
         "POSITIVE");
 }
 
-std::string flag_hint(const std::string& option) {
+std::string flag_hint(const std::string& option, const std::string& message) {
     static const std::map<std::string, std::string> flags{
         {"outputs", "-o"},       {"report", "--report"},       {"scan_bounds", "--scan-bounds"}, {"placement", "--placement"},
         {"iso", "--iso"},        {"simplify", "--simplify"},   {"min_piece", "--min-piece"},     {"threads", "--threads"},
         {"grid", "--grid"},      {"bounds", "--bounds"},       {"surface", "--surface"},         {"max_memory", "--max-memory"},
     };
     const auto flag = flags.find(option);
-    return flag == flags.end() ? std::string() : " (" + flag->second + ")";
+    if (flag == flags.end() || message.find(flag->second + " ") != std::string::npos) return {};
+    return " (" + flag->second + ")";
 }
 
 } // namespace lasmesh::cli

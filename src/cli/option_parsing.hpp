@@ -38,7 +38,7 @@ GltfOrigin parse_glb_origin(const std::string& text);
 CLI::Validator positive_number();
 
 // " (--scan-bounds)": the flag that sets the library option an error names (Error::option), to
-// append to its message; empty when the error names none.
-std::string flag_hint(const std::string& option);
+// append to `message`; empty when the error names none or the message names the flag already.
+std::string flag_hint(const std::string& option, const std::string& message);
 
 } // namespace lasmesh::cli

@@ -79,6 +79,7 @@ Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSu
 }
 
 GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options) {
+    if (options.spec) return *options.spec;
     return make_grid_spec(options.bounds.value_or(Bounds{header.min, header.max}), options.grid);
 }
 

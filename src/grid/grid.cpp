@@ -2,6 +2,7 @@
 #include "lasmesh/grid/grid.hpp"
 
 #include "lasmesh/error.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -14,16 +15,10 @@ namespace {
 
 [[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
 
-std::string shortest(double value) { // 1e+300, not the 300 digits of std::to_string
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-
 } // namespace
 
 GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
     GridSpec grid;
-    grid.origin = bounds.min;
     Vec3 extent;
     for (int a = 0; a < 3; ++a) {
         extent[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
@@ -32,27 +27,43 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
                         shortest(bounds.max[a]) + ") are too wide to grid; give --bounds around the points");
     }
     const double longest = std::max({extent[0], extent[1], extent[2]});
+    const auto too_many = [](double cells) {
+        usage_error("the grid would need " + four_digits(cells) + " cells along one axis, more than " +
+                    std::to_string(max_grid_cells) + "; use a larger --voxel or a smaller --grid");
+    };
 
+    // The cells span the bounds with half a cell to spare on each side: points on the bounds
+    // (a flat scan's plane, the extreme points) lie inside cells, never on the grid's boundary,
+    // where no surface can be contoured.
     switch (request.kind) {
-    case GridRequest::Kind::longest_axis: grid.cell_size = longest / request.dims[0]; break;
+    case GridRequest::Kind::longest_axis:
+        if (request.dims[0] > max_grid_cells) too_many(request.dims[0]);
+        grid.cell_size = longest / std::max<std::uint32_t>(1, request.dims[0] - 1);
+        break;
     case GridRequest::Kind::explicit_dims:
         grid.cell_size = 0;
-        for (int a = 0; a < 3; ++a) grid.cell_size = std::max(grid.cell_size, extent[a] / request.dims[a]);
+        for (int a = 0; a < 3; ++a) {
+            if (request.dims[a] > max_grid_cells) too_many(request.dims[a]);
+            grid.cell_size = std::max(grid.cell_size, extent[a] / std::max<std::uint32_t>(1, request.dims[a] - 1));
+        }
         break;
     case GridRequest::Kind::voxel_size: grid.cell_size = request.voxel; break;
     }
-    if (!(grid.cell_size > 0)) grid.cell_size = 1; // every extent is zero: one cell of one unit
+    if (!(grid.cell_size > 0)) grid.cell_size = 1; // every extent is zero: cells of one unit
 
     for (int a = 0; a < 3; ++a) {
         if (request.kind == GridRequest::Kind::explicit_dims) {
             grid.dims[a] = request.dims[a];
-            continue;
+        } else if (request.kind == GridRequest::Kind::longest_axis && request.dims[0] == 1) {
+            grid.dims[a] = 1; // one cell holds everything
+        } else {
+            // One cell more than the extent needs (a hair less, so that the longest axis of
+            // `--grid N`, exactly N - 1 cells long, gets N), the extent centred in them.
+            const double cells = std::ceil(extent[a] / grid.cell_size + 1 - 1e-9);
+            if (!(cells <= max_grid_cells)) too_many(cells);
+            grid.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));
         }
-        // The cells needed to reach the upper bound; the last cell is closed at its upper face.
-        const double cells = std::ceil(extent[a] / grid.cell_size);
-        if (!(cells <= 65536)) usage_error("the grid would need " + shortest(cells) +
-                                           " cells along one axis; use a larger --voxel or a smaller --grid");
-        grid.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));
+        grid.origin[a] = bounds.min[a] - (grid.dims[a] * grid.cell_size - extent[a]) / 2;
     }
     return grid;
 }

@@ -19,7 +19,7 @@ std::string run_report_json(const RunReport& r) {
     json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
     if (r.surface == SurfaceKind::closed) json["placement"] = r.placement == VertexPlacement::iso ? "iso" : "surface";
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
-                           {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}, {"host_grid_bytes", r.host_grid_bytes}};
+                           {"median_count", r.median_count}, {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}, {"host_grid_bytes", r.host_grid_bytes}};
     json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
     json["simplify"] = {{"triangles_before", r.simplify.triangles_before}, {"triangles_after", r.simplify.triangles_after},
                         {"error", r.simplify.error}, {"seconds", r.simplify.seconds}};

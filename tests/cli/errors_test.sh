@@ -104,7 +104,8 @@ fi
 expect "disk full while writing" 4 'out.ply: writing failed: File too large: free some space or write elsewhere' \
   "trap '' XFSZ; ulimit -f 8192; $L big.las --grid 200 --min-piece 0 --simplify 0 --ascii"
 check "disk full leaves no temporary file" test -z "$(ls -A | grep '\.tmp$')"
-expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 65536"
+expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 4096"
+expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ with whole numbers from 1 to 4096' "$L ok.las --grid 4097"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
   "OCL_ICD_VENDORS=$dir/folder $L ok.las"
@@ -239,7 +240,7 @@ expect "truncated zstd" 2 'truncated.las.zst: corrupt or truncated zstd stream' 
 bzip2 -c ok.las > ok.las.bz2
 python3 -c 'd = bytearray(open("ok.las.bz2", "rb").read()); d[20] ^= 0xFF; open("corrupt.las.bz2", "wb").write(d)'
 expect "corrupt bzip2" 2 'corrupt.las.bz2: corrupt or truncated bzip2 stream' "$L corrupt.las.bz2"
-expect "--voxel 1e-300: short numbers" 1 'the grid would need 1.0002000000000001e+301 cells along one axis' "$L ok.las --voxel 1e-300"
+expect "--voxel 1e-300: short numbers" 1 'the grid would need 1e+301 cells along one axis, more than 4096' "$L ok.las --voxel 1e-300"
 check "--voxel 1e-300: no 300-digit number" test "$(wc -c < err.txt)" -lt 200
 expect "--chunk-mb 0" 1 'expected a positive number, got "0"' "$L ok.las --chunk-mb 0"
 check "--chunk-mb 0: no DBL_MAX" test -z "$(grep -F 'e+308' err.txt)"

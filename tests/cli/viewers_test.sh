@@ -76,7 +76,7 @@ check "... naming --min-piece" contains "$dir/err.txt" "the mesh is empty, nothi
 check "... and no output" test ! -e "$dir/e.ply" -a ! -e "$dir/e.glb"
 "$lasmesh" "$dir/deck.las" --grid 64 --iso 1e9 -o "$dir/e.ply" 2> "$dir/err.txt"; rc=$?
 check "an iso above every cell: exit 2" test "$rc" -eq 2
-check "... naming the iso and the fullest cell" contains "$dir/err.txt" "the iso 1e+09 points per cell left nothing: the fullest cell holds [0-9]* points: try an --iso below"
+check "... naming the iso and the fullest cell" contains "$dir/err.txt" "the iso 1e+09 points per cell leaves no cell: the fullest holds [0-9]* points: try an --iso below"
 check "... and no output" test ! -e "$dir/e.ply"
 
 finish "cli viewers"

@@ -22,6 +22,7 @@ using Rgb8 = std::array<std::uint8_t, 3>;
 struct AccumulateOptions {
     GridRequest grid;
     std::optional<Bounds> bounds;   // default: the header bounds
+    std::optional<GridSpec> spec;   // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
     std::uint64_t slice_bytes = 0;  // upper limit on one upload (--chunk-mb); 0: 16 MiB
     std::uint64_t max_memory = 0;   // --max-memory, host and device together; 0: no limit of ours
     std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
@@ -173,7 +174,8 @@ MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes);
 // Bytes one brick of cells takes on the device.
 std::uint64_t brick_device_bytes(bool has_color);
 
-// The grid for `header` under `options`: the requested cells over --bounds or the header bounds.
+// The grid for `header` under `options`: options.spec, else the requested cells over the bounds
+// or the header bounds.
 GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options);
 
 // Reads every remaining record of `reader` and accumulates it on `device`. Refuses, before

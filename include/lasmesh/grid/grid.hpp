@@ -35,8 +35,16 @@ struct GridSpec {
     std::uint64_t cell_count() const { return std::uint64_t{dims[0]} * dims[1] * dims[2]; }
 };
 
-// Covers `bounds` with cubic cells as requested. A flat or single-point cloud still gets a valid
-// grid: a zero extent gets one cell (of the longest extent's size, or 1 unit if all are zero).
+// The most cells along one axis: the device's brick index and its 32-bit brick numbers hold 4096^3
+// cells at most.
+constexpr std::uint32_t max_grid_cells = 4096;
+
+// Covers `bounds` with cubic cells as requested, the bounds centred with at least half a cell to
+// spare on every side (so points on the bounds, such as a flat scan's plane, lie inside cells):
+// N cells along the longest axis are cells of its extent / (N - 1); a cell edge h gives
+// ceil(extent / h) + 1 cells per axis; explicit dims keep their counts with the smallest cell
+// that leaves the half cells. A flat or single-point cloud still gets a valid grid (cells of 1
+// unit when every extent is zero). Throws Error (usage) past max_grid_cells on an axis.
 GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request);
 
 // The cells of one axis in raw LAS integers: a raw value r lies in cell i when
