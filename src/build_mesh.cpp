@@ -148,7 +148,7 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
     if (r.points_read == r.points_outside) {
         why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
               std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
-    } else if (extracted == 0 && !(double(fullest) > r.iso)) {
+    } else if (extracted == 0 && !(double(fullest) > r.iso) && !(r.iso_auto && too_fine)) {
         why = "the iso " + shortest(r.iso) + " points per cell leaves no cell: the fullest holds " + std::to_string(fullest) +
               " points: try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
         option = "iso";

@@ -101,6 +101,9 @@ std::size_t bad_edges(const Mesh& m) {
     return bad;
 }
 
+// The bound, and the rounding of distances worked out in double from float positions.
+double within(double bound) { return bound * (1 + 1e-6) + 1e-9; }
+
 } // namespace
 
 TEST_CASE("simplify: fewer triangles, vertices within the bound, colours and winding kept") {
@@ -131,16 +134,13 @@ TEST_CASE("simplify: fewer triangles, vertices within the bound, colours and win
         }
         CHECK(worst == 0); // every vertex is an original one: collapses move vertices onto neighbours
         CHECK(colours_kept);
-        // Between the vertices, both ways, sampled: within the bound. It is checked for each
-        // removed vertex against the planes of the faces that replace it, not for every point of
-        // the faces, hence a quarter to spare (1.0 times the bound at most is what they reach).
-        const TriangleSearch simplified(m);
-        double far = 0, back = 0;
-        for (const Vec3& p : sample_surface(m, 20000)) far = std::max(far, surface.distance(p));
-        for (const Vec3& p : sample_surface(original, 20000)) back = std::max(back, simplified.distance(p));
+        // Both ways, sampled densely (half the bound apart) and measured here: every point of
+        // either surface within the bound of the other, as the bound promises.
+        const double far = test::farthest_from(original, test::dense_samples(m, error / 2), 2 * error);
+        const double back = test::farthest_from(m, test::dense_samples(original, error / 2), 2 * error);
         MESSAGE("bound " << error << ": simplified to original " << far << ", original to simplified " << back);
-        CHECK(far <= error * 1.25);
-        CHECK(back <= error * 1.25);
+        CHECK(far <= within(error));
+        CHECK(back <= within(error));
         // Winding: every face still faces outward and every edge stays manifold.
         double center[3] = {0, 0, 0}; // positions are local: the sphere's centre is their mean
         for (const auto& p : original.positions)
@@ -209,14 +209,12 @@ TEST_CASE("simplify: a deck's sheets at half a cell, flip-free and the same for 
     bool colours_kept = m.colors.size() == m.positions.size();
     for (std::size_t i = 0; i < m.positions.size() && colours_kept; ++i) colours_kept = color_of.at(m.positions[i]) == m.colors[i];
     CHECK(colours_kept);
-    const TriangleSearch before(original), after(m);
-    double far = 0, back = 0;
-    for (const Vec3& p : sample_surface(m, 50000)) far = std::max(far, before.distance(p));
-    for (const Vec3& p : sample_surface(original, 50000)) back = std::max(back, after.distance(p));
+    const double far = test::farthest_from(original, test::dense_samples(m, bound / 4), 2 * bound);
+    const double back = test::farthest_from(m, test::dense_samples(original, bound / 4), 2 * bound);
     MESSAGE("deck: simplified to original " << far / original.cell_size << " cells, original to simplified "
                                             << back / original.cell_size << " cells");
-    CHECK(far <= 1.25 * bound);
-    CHECK(back <= 1.25 * bound);
+    CHECK(far <= within(bound));
+    CHECK(back <= within(bound));
     for (const int threads : {2, 4}) {
         CAPTURE(threads);
         const Mesh again = simplify(threads);

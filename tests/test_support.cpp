@@ -3,13 +3,17 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <limits>
 #include <stdexcept>
+#include <unordered_map>
 #include <unistd.h>
 
 namespace test {
@@ -185,6 +189,109 @@ std::vector<Row> read_manifest(const std::filesystem::path& folder) {
         rows.push_back(row);
     }
     return rows;
+}
+
+} // namespace test
+
+namespace test {
+
+namespace {
+
+using lasmesh::Vec3;
+
+Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+Vec3 corner(const lasmesh::Mesh& m, std::uint32_t v) { return {m.positions[v][0], m.positions[v][1], m.positions[v][2]}; }
+
+// The distance from p to triangle abc: the closest point by the regions of the triangle's
+// Voronoi diagram (Ericson, "Real-Time Collision Detection", 5.1.5).
+double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = minus(b, a), ac = minus(c, a), ap = minus(p, a);
+    const auto at = [&](double v, double w) {
+        const Vec3 q{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
+        const Vec3 d = minus(p, q);
+        return std::sqrt(dot3(d, d));
+    };
+    const double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return at(0, 0);
+    const Vec3 bp = minus(p, b);
+    const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return at(1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+    const Vec3 cp = minus(p, c);
+    const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return at(0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return at(1 - w, w);
+    }
+    const double denominator = 1 / (va + vb + vc);
+    return at(vb * denominator, vc * denominator);
+}
+
+} // namespace
+
+std::vector<Vec3> dense_samples(const lasmesh::Mesh& mesh, double spacing) {
+    std::vector<Vec3> points;
+    for (const auto& t : mesh.triangles) {
+        const Vec3 a = corner(mesh, t[0]), b = corner(mesh, t[1]), c = corner(mesh, t[2]);
+        double longest = 0;
+        for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+            longest = std::max(longest, std::sqrt(dot3(minus(p, q), minus(p, q))));
+        const int n = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, 12);
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; i + j <= n; ++j) {
+                const double v = double(i) / n, w = double(j) / n;
+                points.push_back({a[0] + (b[0] - a[0]) * v + (c[0] - a[0]) * w, a[1] + (b[1] - a[1]) * v + (c[1] - a[1]) * w,
+                                  a[2] + (b[2] - a[2]) * v + (c[2] - a[2]) * w});
+            }
+    }
+    return points;
+}
+
+double farthest_from(const lasmesh::Mesh& surface, const std::vector<Vec3>& points, double window) {
+    // Cells no smaller than the mean edge, so a triangle is filed in few of them.
+    const double reach = window;
+    double edges = 0;
+    for (const auto& t : surface.triangles)
+        edges += std::sqrt(dot3(minus(corner(surface, t[0]), corner(surface, t[1])), minus(corner(surface, t[0]), corner(surface, t[1]))));
+    window = std::max(window, edges / std::max<std::size_t>(1, surface.triangles.size()));
+    // Triangles filed by the cells (of edge `window`) their box, grown by `window`, meets.
+    struct Hash {
+        std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
+            return std::size_t((c[0] * 73856093) ^ (c[1] * 19349663) ^ (c[2] * 83492791));
+        }
+    };
+    std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>, Hash> cells;
+    const auto cell_of = [&](double x) { return static_cast<std::int64_t>(std::floor(x / window)); };
+    for (std::uint32_t f = 0; f < surface.triangles.size(); ++f) {
+        std::array<std::int64_t, 3> lo{}, hi{};
+        for (int a = 0; a < 3; ++a) {
+            double low = 1e300, high = -1e300;
+            for (const std::uint32_t v : surface.triangles[f]) low = std::min(low, double(surface.positions[v][a])), high = std::max(high, double(surface.positions[v][a]));
+            lo[a] = cell_of(low - window), hi[a] = cell_of(high + window);
+        }
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (std::int64_t x = lo[0]; x <= hi[0]; ++x) cells[{x, y, z}].push_back(f);
+    }
+    double farthest = 0;
+    for (const Vec3& p : points) {
+        const auto found = cells.find({cell_of(p[0]), cell_of(p[1]), cell_of(p[2])});
+        double nearest = std::numeric_limits<double>::infinity();
+        if (found != cells.end())
+            for (const std::uint32_t f : found->second) {
+                const auto& t = surface.triangles[f];
+                nearest = std::min(nearest, triangle_distance(p, corner(surface, t[0]), corner(surface, t[1]), corner(surface, t[2])));
+            }
+        farthest = std::max(farthest, nearest > reach ? std::numeric_limits<double>::infinity() : nearest);
+    }
+    return farthest;
 }
 
 } // namespace test

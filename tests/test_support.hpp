@@ -88,3 +88,19 @@ std::vector<Row> read_manifest(const std::filesystem::path& folder);
 std::vector<std::string> split(const std::string& text, char separator);
 
 } // namespace test
+
+// Distances between two surfaces, worked out here and not with the library's measure/ code, so a
+// test of the simplifier does not trust what it could share a mistake with.
+#include "lasmesh/mesh.hpp"
+
+namespace test {
+
+// Points on every triangle of `mesh` (in its local frame) no farther than `spacing` apart: its
+// corners, and a barycentric lattice fine enough for its longest edge (at most 12 steps an edge).
+std::vector<lasmesh::Vec3> dense_samples(const lasmesh::Mesh& mesh, double spacing);
+
+// The largest distance from one of `points` to the nearest triangle of `surface`, looking only
+// `window` around each point: +infinity when some point has no triangle that near.
+double farthest_from(const lasmesh::Mesh& surface, const std::vector<lasmesh::Vec3>& points, double window);
+
+} // namespace test

@@ -104,7 +104,8 @@ fi
 expect "disk full while writing" 4 'out.ply: writing failed: File too large: free some space or write elsewhere' \
   "trap '' XFSZ; ulimit -f 8192; $L big.las --grid 200 --min-piece 0 --simplify 0 --ascii"
 check "disk full leaves no temporary file" test -z "$(ls -A | grep '\.tmp$')"
-expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 4096"
+expect "grid too large for memory" 1 'would fit' "$L ok.las --grid 4096 --max-memory 1000"
+expect "a grid far too fine for the points" 2 'is too fine for the points' "$L ok.las --grid 2048"
 expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ with whole numbers from 1 to 4096' "$L ok.las --grid 4097"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \

@@ -17,7 +17,7 @@ struct SimplifyOptions {
 struct SimplifyReport {
     std::size_t triangles_before = 0, triangles_after = 0;
     double error = 0;         // the bound asked for, in the mesh's units
-    double result_error = 0;  // the largest error the collapses reached (each face's bound), same units
+    double result_error = 0;  // the largest bound a face of the result carries (at most `error`), same units
     double seconds = 0;
 };
 
@@ -25,13 +25,12 @@ struct SimplifyReport {
 // vertices keep their position, colour and normal (colour detail of removed vertices is lost,
 // not averaged; a normal that would face away from the vertex's new faces becomes theirs, as in
 // agree_normals_with_faces); vertices no longer used are removed, the rest keep their order.
-// Every collapse keeps each removed vertex within `error` of the planes of all the faces that
-// replace it, the errors along successive collapses added as independent (root of the sum of
-// squares), and a border vertex within `error` of the new border; pieces never vanish. The
-// sampled distance between the two surfaces, both ways, stays within about `error` (1.02 x at
-// most on the deck at half a cell, up to 1.4 x at a whole cell: docs/benchmarks.md). No face turns over against the original surface, none is
-// left without area, triangles keep their winding, and no edge becomes non-manifold (borders
-// stay borders, holes stay holes). Deterministic: the same bytes for any thread count.
+// The bound holds both ways, for every point and not only the vertices: every point of the
+// simplified surface lies within `error` of the original surface, and every point of the original
+// within `error` of the simplified one (a bound on their Hausdorff distance; tests measure it by
+// dense sampling). No face turns over against the original surface, none is left without area,
+// triangles keep their winding, and no edge becomes non-manifold (borders stay borders, holes
+// stay holes). Deterministic: the same bytes for any thread count.
 // Vertices where a sheet touches itself, and (lock_border) all vertices on open borders, stay.
 SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options);
 
