@@ -8,6 +8,11 @@ validator_version=2.0.0-dev.3.10
 if ! grep -qs "\"version\": \"$validator_version\"" build/gltf-validator/node_modules/gltf-validator/package.json; then
   npm install --prefix build/gltf-validator --no-audit --no-fund --loglevel=error "gltf-validator@$validator_version" > /dev/null
 fi
+# laz-perf, the reference LAZ decoder, for the facts of tests/data/laz (and tools/bench_laz.sh).
+lazperf_version=0.0.7
+if ! grep -qs "\"version\": \"$lazperf_version\"" build/laz-perf/node_modules/laz-perf/package.json; then
+  npm install --prefix build/laz-perf --no-audit --no-fund --loglevel=error "laz-perf@$lazperf_version" > /dev/null
+fi
 # Two tests at a time: some wait on pipes and timers (135 s instead of 163 s on 2 cores).
 (cd build && ctest --output-on-failure --timeout 900 --parallel 2)
 

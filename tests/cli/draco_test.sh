@@ -48,6 +48,7 @@ check "draco_decoder reads the .glb's Draco bytes" test -s "$dir/g.obj"
 check "glb POSITION count is the decoded vertex count" test "$(grep -c '^v ' "$dir/g.obj")" = "$positions"
 check "glb index count is 3 x the decoded faces" test "$(($(grep -c '^f ' "$dir/g.obj") * 3))" = "$indices"
 check "glb has the PLY's faces" test "$((indices / 3))" = "$(ply_count "$dir/a.ply" face)"
+check "glb POSITION min and max are the decoded vertices' bounds" python3 "$here/glb_check.py" "$dir/a.glb" "$dir/g2.drc" "$dir/g.obj"
 
 # The Khronos validator: no errors. A copy without the required POSITION bounds must fail it,
 # which shows the validator really ran.

@@ -6,13 +6,17 @@ normalized 16-bit COLOR_0, the Z-up to Y-up node), or a plain file's aligned buf
 origin in extras, names, double-sided material. For a Draco file, writes the primitive's Draco
 bytes to DRACO_OUT. Prints the mesh origin (the node translation turned back to Z-up), the POSITION count and the
 index count.
-Usage: glb_check.py FILE.glb DRACO_OUT"""
+POSITION's min and max must be the bounds of the positions: exactly, read from the BIN chunk, for
+a plain file; for a Draco file, within 1e-5 of the extent of the vertices of DECODED_OBJ (the
+Draco bytes through draco_decoder) when it is given.
+Usage: glb_check.py FILE.glb DRACO_OUT [DECODED_OBJ]"""
 import json
 import math
 import struct
 import sys
 
 path, draco_out = sys.argv[1], sys.argv[2]
+decoded_obj = sys.argv[3] if len(sys.argv) > 3 else None
 data = open(path, "rb").read()
 magic, version, length = struct.unpack_from("<4sII", data, 0)
 assert magic == b"glTF" and version == 2, (magic, version)
@@ -79,6 +83,15 @@ if not draco_file:  # plain: every accessor in its own 4-byte aligned view of th
     for a in accessors:
         v = gltf["bufferViews"][a["bufferView"]]
         assert v.get("byteOffset", 0) % 4 == 0 and v["byteOffset"] + v["byteLength"] <= bin_length
+    v = gltf["bufferViews"][position["bufferView"]]
+    stride = v.get("byteStride", 12)
+    at = v.get("byteOffset", 0) + position.get("byteOffset", 0)
+    xyz = [struct.unpack_from("<3f", binary, at + stride * i) for i in range(position["count"])]
+    lo = [min(p[k] for p in xyz) for k in range(3)]
+    hi = [max(p[k] for p in xyz) for k in range(3)]
+    # As float32: the JSON numbers must read back as the exact float bounds.
+    f32 = lambda x: struct.unpack("<f", struct.pack("<f", x))[0]
+    assert [f32(x) for x in position["min"]] == lo and [f32(x) for x in position["max"]] == hi, (position["min"], lo, position["max"], hi)
     print(f"{t[0]!r},{-t[2]!r},{t[1]!r} {position['count']} {indices['count']}")
     sys.exit(0)
 for a in accessors:
@@ -90,5 +103,11 @@ assert gltf["buffers"][0]["byteLength"] <= bin_length <= gltf["buffers"][0]["byt
 start = view.get("byteOffset", 0)
 assert start + view["byteLength"] <= gltf["buffers"][0]["byteLength"]
 open(draco_out, "wb").write(binary[start : start + view["byteLength"]])
+if decoded_obj:
+    xyz = [[float(x) for x in line.split()[1:4]] for line in open(decoded_obj) if line.startswith("v ")]
+    lo = [min(p[k] for p in xyz) for k in range(3)]
+    hi = [max(p[k] for p in xyz) for k in range(3)]
+    extent = max(h - l for l, h in zip(lo, hi))
+    assert all(abs(a - b) <= 1e-5 * extent for a, b in zip(position["min"] + position["max"], lo + hi)), (position["min"], lo, position["max"], hi)
 # glTF (x, y, z) = LAS (x, z, -y): the origin is (tx, -tz, ty).
 print(f"{t[0]!r},{-t[2]!r},{t[1]!r} {position['count']} {indices['count']}")
