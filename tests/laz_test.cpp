@@ -281,3 +281,46 @@ TEST_CASE("the repository's LAZ files decode to the independently measured recor
     CHECK(formats == std::set<int>{1, 3, 6, 7, 8});
     CHECK(matched == 8);
 }
+
+TEST_CASE("LAZ without points, and LAZ whose chunks hold more points than the header counts") {
+    const std::filesystem::path folder = repository_laz_folder();
+    const test::Bytes simple = test::read_file((folder / "laspy_simple.laz").string());
+    const std::size_t points_at = load_le<std::uint32_t>(simple.data() + 96);
+    test::TempDir dir;
+    SUBCASE("no points: no chunk table at all (LASzip's empty file), or one of no chunks; a file and a pipe alike") {
+        for (const bool with_table : {false, true}) {
+            CAPTURE(with_table);
+            test::Bytes empty(simple.begin(), simple.begin() + static_cast<std::ptrdiff_t>(points_at) + 8);
+            store_le<std::uint32_t>(empty.data() + 107, 0);
+            store_le<std::int64_t>(empty.data() + points_at, static_cast<std::int64_t>(empty.size())); // the table: here
+            if (with_table) empty.resize(empty.size() + 8, std::byte{0});                                // version 0, 0 chunks
+            test::write_file(dir.file("empty.laz"), empty);
+            LasReader from_file(dir.file("empty.laz"));
+            CHECK(from_file.header().point_count == 0);
+            std::vector<std::byte> buffer(1000);
+            CHECK(from_file.read_records(buffer) == 0);
+            test::write_file(dir.file("empty.laz.gz"), gzip(empty));
+            LasReader from_pipe(dir.file("empty.laz.gz"));
+            CHECK(from_pipe.read_records(buffer) == 0);
+        }
+    }
+    SUBCASE("more points in the chunks than the header counts: the header's count is read, and a warning says so") {
+        // COPC: 65 variable chunks holding 1,065 points, the header (64-bit count) saying 1,000.
+        const std::string copc = (folder / "laspy_simple.copc.laz").string();
+        test::Bytes patched = test::read_file(copc);
+        REQUIRE(load_le<std::uint64_t>(patched.data() + 247) == 1065);
+        store_le<std::uint64_t>(patched.data() + 247, 1000);
+        test::write_file(dir.file("low.laz"), patched);
+        LasReader full(copc), low(dir.file("low.laz"));
+        const std::size_t length = full.header().point_record_length;
+        std::vector<std::byte> all(1065 * length), first(1065 * length);
+        REQUIRE(full.read_records(all) == 1065);
+        REQUIRE(low.read_records(first) == 1000);
+        CHECK(std::equal(first.begin(), first.begin() + static_cast<std::ptrdiff_t>(1000 * length), all.begin()));
+        const std::string warning = trailing_warning(low);
+        CAPTURE(warning);
+        CHECK(warning.find("65 more points after the 1000 points the header counts") != std::string::npos);
+        CHECK(warning.find("low.laz") != std::string::npos);
+        CHECK(trailing_warning(full).empty());
+    }
+}

@@ -28,6 +28,8 @@ LasReader::LasReader(const std::string& path) : stream_(path), header_(read_head
 
 LasReader::~LasReader() = default;
 
+std::string LasReader::laz_beyond_header() const { return laz_ ? laz_->beyond_header() : std::string(); }
+
 std::size_t LasReader::read_records(std::span<std::byte> dst) {
     const std::size_t length = header_.point_record_length;
     const std::uint64_t wanted = std::min<std::uint64_t>(dst.size() / length, records_left());
@@ -61,6 +63,10 @@ std::size_t LasReader::read_records(std::span<std::byte> dst) {
 }
 
 std::string trailing_warning(const LasReader& reader) {
+    if (!reader.laz_beyond_header().empty())
+        return "warning: " + reader.stream().name() + ": its LAZ chunk table holds " + reader.laz_beyond_header() +
+               " after the " + std::to_string(reader.header().point_count) +
+               " points the header counts; they were left out (is the header's point count wrong?)";
     const std::uint64_t bytes = reader.trailing_bytes(), length = reader.header().point_record_length;
     // LAS 1.3 waveform packets and 1.4 extended VLRs belong after the records: not a warning.
     if (bytes == 0 || reader.header().start_after_points != 0) return "";

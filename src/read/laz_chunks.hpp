@@ -21,11 +21,12 @@ struct Chunk {
 
 // Decodes the table from `table` (the bytes from the table offset on: u32 version, u32 chunk
 // count, coded sizes) and places the chunks from `first_chunk_offset`. Checks that the chunks
-// end at or before `table_offset` and that their points add up to `point_count`; throws Error
-// (input) naming `source` otherwise.
+// end at or before `table_offset` and that they hold at least `point_count` points; throws Error
+// (input) naming `source` otherwise. Chunks past the header's count are left out of the result
+// and said in `beyond` ("2 more chunks", "10000 more points"; empty when none).
 std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Format& format,
                                       std::uint64_t point_count, std::uint64_t first_chunk_offset,
-                                      std::uint64_t table_offset, const std::string& source);
+                                      std::uint64_t table_offset, const std::string& source, std::string& beyond);
 
 // Every point costs a few adaptive-symbol decodes, at least a few thousandths of a bit each, so
 // a chunk of `bytes` compressed bytes holds well under 2048 points per byte (about 1000 for

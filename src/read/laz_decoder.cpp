@@ -68,6 +68,9 @@ LazDecoder::LazDecoder(InputStream& stream, const LasHeader& header, const std::
     std::int64_t table_offset = load_le<std::int64_t>(raw);
     const std::uint64_t first_chunk = pointer_at + 8;
 
+    // No points, no chunks: LASzip writes no table then (its offset is the end of the file), so
+    // none is read, from a file as from a pipe.
+    if (point_count_ == 0) return;
     // The table needs a seek: only for a plain file opened by path.
     const std::optional<std::uint64_t> file_size = stream_.raw_size();
     if (path == "-" || stream_.compression() != Compression::none || !file_size) {
@@ -93,7 +96,8 @@ LazDecoder::LazDecoder(InputStream& stream, const LasHeader& header, const std::
     const std::uint64_t want = std::min<std::uint64_t>(*file_size - table_offset, 8 + 20 * max_chunks + 64);
     std::vector<std::byte> table(static_cast<std::size_t>(want));
     table.resize(file.read_at(static_cast<std::uint64_t>(table_offset), table.data(), table.size()));
-    table_ = decode_chunk_table(table, format_, point_count_, first_chunk, static_cast<std::uint64_t>(table_offset), source_);
+    table_ = decode_chunk_table(table, format_, point_count_, first_chunk, static_cast<std::uint64_t>(table_offset), source_,
+                                beyond_header_);
     have_table_ = true;
 }
 

@@ -32,6 +32,9 @@ public:
     std::size_t read(std::byte* dst, std::size_t records);
 
     const Format& format() const { return format_; }
+    // What the chunk table holds past the header's point count ("1 more chunk", "10000 more
+    // points"), never decoded; empty when nothing (or when there is no table: a pipe).
+    const std::string& beyond_header() const { return beyond_header_; }
 
 private:
     struct Pending {
@@ -55,6 +58,7 @@ private:
     tbb::enumerable_thread_specific<ModelStore> stores_;
     std::vector<Chunk> table_;  // empty when decoding without the table
     bool have_table_ = false;
+    std::string beyond_header_;
     std::vector<std::byte> carry_; // pipe, pointwise: bytes read past the last chunk's end
     // Decoded records. Grown without zero-filling (filling them cost about 3% of decoding): the
     // item decoders write every byte of every record (their sizes add up to the record length),

@@ -49,6 +49,13 @@ done
 "$lasmesh" "$corpus/PDAL_PDAL__test_data_las_autzen_trim.las" -o "$dir/las.ply" --grid 128 > /dev/null 2>&1
 check "LAZ and its LAS twin mesh to identical bytes" cmp -s "$dir/laz.ply" "$dir/las.ply"
 check "the mesh is not empty" [ "$(stat -c %s "$dir/laz.ply")" -gt 100000 ]
+# The header counting 100,000 of the 110,000 points its three chunks hold: read as counted, with
+# a warning (as for a LAS file's records past its count).
+python3 -c 'import struct, sys; d = bytearray(open(sys.argv[1], "rb").read()); struct.pack_into("<I", d, 107, 100000); open(sys.argv[2], "wb").write(d)' \
+  "$laz/PDAL_PDAL__test_data_laz_autzen_trim.laz" "$dir/low.laz"
+"$lasmesh" "$dir/low.laz" -o "$dir/low.ply" --grid 128 2> "$dir/low.err"; rc=$?
+check "a LAZ header counting fewer points than its chunks: meshed (got $rc)" test "$rc" -eq 0
+check "... with a warning naming the chunk left out" has "$dir/low.err" "its LAZ chunk table holds 1 more chunk after the 100000 points the header counts"
 old=$laz/PDAL_PDAL__test_data_laz_simple-laszip-compressor-version-1.2r0.laz
 "$lasmesh" info --scan "$old" > /dev/null 2> "$dir/old.err"
 check "LASzip 1.x items: exit code 2" [ $? -eq 2 ]

@@ -39,6 +39,9 @@ public:
     // Bytes after the last promised record, known once it is read: records the header does not
     // count (a wrong point count) or junk. Never meshed; the caller warns.
     std::uint64_t trailing_bytes() const { return trailing_bytes_; }
+    // LAZ from a file: what its chunk table holds past the header's count ("1 more chunk"),
+    // never read; empty otherwise.
+    std::string laz_beyond_header() const;
 
 private:
     InputStream stream_;
@@ -49,7 +52,8 @@ private:
 };
 
 // "warning: 20 bytes (0 whole records of 34 bytes) follow the 1000 point records the header
-// counts; they were not read (the header's point count is wrong?)", or "" when none follow.
+// counts; they were not read (the header's point count is wrong?)", the like for LAZ chunks
+// past the header's count, or "" when none follow.
 std::string trailing_warning(const LasReader& reader);
 
 } // namespace lasmesh
