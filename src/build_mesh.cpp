@@ -283,6 +283,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     r.host_grid_bytes = grid.host_bytes();
     if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
+    if (has_color(reader.header()) && !grid.has_color())
+        r.warnings.push_back("note: " + r.input + ": the colour of every point is 0 (black): the mesh has no colour");
     if (double(r.median_count) > too_coarse_points_per_cell)
         r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) +
                              " x " + std::to_string(r.grid.dims[2]) + " cells of " + four_digits(r.grid.cell_size) +

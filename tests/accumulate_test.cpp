@@ -511,3 +511,25 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     for (const CellSums& c : odd_merged.cells) total += c.count;
     CHECK(total == odd.points_read - odd.points_outside);
 }
+
+TEST_CASE("points on the header's bounds are inside the grid, even where the scale rounds them past it") {
+    test::TempDir dir;
+    // 487881702 x 0.01 is 4878817.0200000005 in doubles: past a header maximum of 4878817.02.
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i <= 100; ++i) points.push_back(at(4878816.02 + i * 0.01, 100 + (i % 10) * 0.1, 10 + (i / 10) * 0.1));
+    test::write_file(dir.file("edge.las"), las_with_points(points, {4878816.02, 100, 10}, {4878817.02, 100.9, 11}, 8, 1, 0.01));
+    LasReader reader(dir.file("edge.las"));
+    REQUIRE(reader.header().max[0] == 4878817.02);
+    std::vector<std::byte> records(101 * reader.header().point_record_length);
+    REQUIRE(reader.read_records(records) == 101);
+    const PointDecoder decoder(reader.header());
+    CHECK(decoder.position(records.data() + 100 * decoder.record_length)[0] > 4878817.02); // the rounding
+    for (const char* grid : {"8", "64", "1000"}) {
+        CAPTURE(grid);
+        const DensityGrid g = accumulate_file(dir.file("edge.las"), grid_of(grid));
+        CHECK(g.points_outside == 0);
+        std::uint64_t total = 0;
+        for (const CellSums& c : g.cells) total += c.count;
+        CHECK(total == 101);
+    }
+}

@@ -323,6 +323,9 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         queue.enqueueReadBuffer(stats, CL_TRUE, 0, sizeof stat_words, stat_words);
         out.points_outside = stat_words[0] | (std::uint64_t{stat_words[1]} << 32);
         out.color_max_word = stat_words[2];
+        // Colour fields that are 0 in every record hold no colour (a writer that had none): a
+        // mesh "coloured" black would hide that, so the grid has no colour then.
+        if (color && out.color_max_word == 0) out.color = false;
 
         // The occupied bricks in ascending order of position, whatever order the device met them in.
         std::vector<std::uint64_t> slot_of_position(used);

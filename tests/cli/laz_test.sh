@@ -29,6 +29,12 @@ gzip -c "$lone" | "$lasmesh" - -o "$dir/gz.ply" -q
 check "LAZ meshes (50,000 points of format 1)" test "$(stat -c %s "$dir/file.ply")" -gt 10000
 check "LAZ from a file and from a gzip stream mesh to identical bytes" cmp -s "$dir/file.ply" "$dir/gz.ply"
 
+# Colour fields that are 0 in every record (laspy's plane.laz): no colour, not an all-black mesh.
+"$lasmesh" "$laz/laspy_plane.laz" -o "$dir/plane.ply" 2> "$dir/plane.txt"
+check "all-zero colour: the mesh has no colour" test -z "$(head -c 300 "$dir/plane.ply" | grep -a 'property uchar red')"
+check "all-zero colour: said so" has "$dir/plane.txt" "the colour of every point is 0 (black): the mesh has no colour"
+check "all-zero colour: the summary says no colour" has "$dir/plane.txt" "triangles, no colour"
+
 head -c 5000 "$simple" > "$dir/cut.laz"
 "$lasmesh" info --scan "$dir/cut.laz" > /dev/null 2> "$dir/cut.err"
 check "truncated LAZ: exit code 2" [ $? -eq 2 ]

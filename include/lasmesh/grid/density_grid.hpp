@@ -94,7 +94,7 @@ struct DensityGrid {
     std::vector<std::uint64_t> brick_masks;
     std::vector<std::uint64_t> brick_first;
     std::vector<CellSums> cells;
-    bool color = false;
+    bool color = false; // the point format has colour, and some point's colour is not 0
     std::uint64_t points_read = 0;
     std::uint64_t points_outside = 0;
     std::uint32_t color_max_word = 0; // the largest R, G or B word in the file
