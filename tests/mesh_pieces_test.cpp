@@ -74,3 +74,29 @@ TEST_CASE("--min-piece text") {
     for (const char* bad : {"", "%", "-1", "abc", "5%%", "101%", "nan", "inf", "1e400"})
         CHECK_THROWS_AS(parse_min_piece(bad), Error);
 }
+
+TEST_CASE("sheets that meet at an edge without sharing vertices are one piece; a far one is not") {
+    // A 2 x 2 floor and a 2 x 2 wall standing on its edge, 0.05 apart (under the cell of 0.1), and
+    // a small square 5 away: each square's diagonal is 2.83, the floor and wall together 3.46.
+    Mesh m;
+    m.cell_size = 0.1;
+    const auto square = [&](std::array<float, 3> corner, std::array<float, 3> u, std::array<float, 3> v) {
+        const auto at = [&](float a, float b) {
+            return std::array<float, 3>{corner[0] + a * u[0] + b * v[0], corner[1] + a * u[1] + b * v[1], corner[2] + a * u[2] + b * v[2]};
+        };
+        const auto first = static_cast<std::uint32_t>(m.positions.size());
+        for (const auto& p : {at(0, 0), at(1, 0), at(1, 1), at(0, 1)}) m.positions.push_back(p);
+        m.triangles.push_back({first, first + 1, first + 2});
+        m.triangles.push_back({first, first + 2, first + 3});
+    };
+    square({0, 0, 0}, {2, 0, 0}, {0, 2, 0});      // floor
+    square({2.05f, 0, 0.05f}, {0, 2, 0}, {0, 0, 2}); // wall on its edge
+    square({8, 8, 0}, {0.5, 0, 0}, {0, 0.5, 0});   // far away
+    Mesh copy = m;
+    const PieceCount count = remove_small_pieces(copy, parse_min_piece("3"));
+    CHECK(count.pieces == 2); // floor and wall joined
+    CHECK(count.removed == 1);
+    CHECK(copy.triangles.size() == 4);
+    m.cell_size = 0.01; // a gap of 5 cells: apart, and each too small
+    CHECK(remove_small_pieces(m, parse_min_piece("3")).removed == 3);
+}

@@ -100,6 +100,14 @@ TEST_CASE("a sphere's scan gives one closed, oriented sheet on the points, half 
     CAPTURE(worst / h);
     CHECK(mean < 0.05 * h);  // the closed surface sits about half a cell off
     CHECK(worst < 0.25 * h);
+    // Outward, every normal: a sphere has no "up" to go by.
+    std::size_t inward = 0;
+    for (std::size_t v = 0; v < sheet.positions.size(); ++v) {
+        double along = 0;
+        for (int a = 0; a < 3; ++a) along += (sheet.origin[a] + sheet.positions[v][a] - centre[a]) * sheet.normals[v][a];
+        inward += along <= 0;
+    }
+    CHECK(inward == 0);
     // Normals agree with the winding: each triangle's face normal and its vertices' normals.
     for (const auto& t : sheet.triangles) {
         const auto& a = sheet.positions[t[0]];
@@ -167,4 +175,64 @@ TEST_CASE("the sheet is the same for any number of threads") {
     CHECK(one.normals == two.normals);
     CHECK(one.colors == two.colors);
     CHECK(one.triangles == two.triangles);
+}
+
+TEST_CASE("boxes on a deck face outward, their walls too, whichever way their neighbours face") {
+    // Two boxes 1.5 m apart on a 20 x 12 m deck (not scanned under them, as no scanner sees it):
+    // a wall's inside is enclosed, its outside open, and the wall facing the other box too.
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 11;
+    auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
+    struct Box { double x0, y0, x1, y1, top; };
+    const std::vector<Box> boxes{{4, 3, 10, 5.5, 2.6}, {4, 7, 10, 9.5, 2.6}};
+    while (points.size() < 200000) {
+        const double x = 20 * next(), y = 12 * next();
+        bool under = false;
+        for (const Box& b : boxes) under = under || (x > b.x0 && x < b.x1 && y > b.y0 && y < b.y1);
+        if (!under) points.push_back(point(x, y, 0));
+    }
+    for (const Box& b : boxes)
+        for (int i = 0; i < 60000; ++i) {
+            const double u = next(), v = next();
+            switch (i % 5) {
+            case 0: points.push_back(point(b.x0 + u * (b.x1 - b.x0), b.y0 + v * (b.y1 - b.y0), b.top)); break;
+            case 1: points.push_back(point(b.x0 + u * (b.x1 - b.x0), b.y0, v * b.top)); break;
+            case 2: points.push_back(point(b.x0 + u * (b.x1 - b.x0), b.y1, v * b.top)); break;
+            case 3: points.push_back(point(b.x0, b.y0 + u * (b.y1 - b.y0), v * b.top)); break;
+            default: points.push_back(point(b.x1, b.y0 + u * (b.y1 - b.y0), v * b.top)); break;
+            }
+        }
+    test::TempDir dir;
+    test::write_file(dir.file("boxes.las"), test::las_with_points(points, {0, 0, 0}, {20, 12, 2.6}, 8, 3, 0.001));
+    for (const char* cells : {"160", "320"}) {
+        CAPTURE(cells);
+        AccumulateOptions grid;
+        grid.grid.dims = {static_cast<std::uint32_t>(std::stoi(cells)), 0, 0};
+        const DensityGrid g = test::accumulate_file(dir.file("boxes.las"), grid);
+        const Mesh sheet = extract_sheet(g, automatic_iso(g));
+        REQUIRE(sheet.normals.size() == sheet.positions.size());
+        std::size_t walls = 0, wrong_walls = 0, roofs = 0, wrong_roofs = 0, deck = 0, wrong_deck = 0;
+        for (std::size_t v = 0; v < sheet.positions.size(); ++v) {
+            const double x = sheet.origin[0] + sheet.positions[v][0], y = sheet.origin[1] + sheet.positions[v][1],
+                         z = sheet.origin[2] + sheet.positions[v][2];
+            const auto& n = sheet.normals[v];
+            bool near_box = false;
+            for (const Box& b : boxes) {
+                if (x < b.x0 - 0.3 || x > b.x1 + 0.3 || y < b.y0 - 0.3 || y > b.y1 + 0.3) continue;
+                near_box = true;
+                const double cx = (b.x0 + b.x1) / 2, cy = (b.y0 + b.y1) / 2;
+                const bool inner = x > b.x0 + 0.2 && x < b.x1 - 0.2 && y > b.y0 + 0.2 && y < b.y1 - 0.2;
+                if (z > b.top - 0.2 && inner) ++roofs, wrong_roofs += n[2] <= 0;
+                else if (z > 0.5 && z < b.top - 0.2 && !inner) ++walls, wrong_walls += (x - cx) * n[0] + (y - cy) * n[1] <= 0;
+            }
+            if (!near_box && z < 0.2 && x > 0.3 && x < 19.7 && y > 0.3 && y < 11.7) ++deck, wrong_deck += n[2] <= 0; // off its border
+        }
+        CAPTURE(walls);
+        CAPTURE(roofs);
+        CAPTURE(deck);
+        CHECK(walls > 100);
+        CHECK(wrong_walls <= walls / 100);
+        CHECK(wrong_roofs <= roofs / 100);
+        CHECK(wrong_deck == 0);
+    }
 }

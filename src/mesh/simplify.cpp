@@ -414,9 +414,16 @@ private:
         // Of the allowed collapses, the one whose faces would carry the least error (ties: the
         // cheapest, as sorted): the bound lasts longer. The geometry first, the topology (which
         // needs v's neighbours) only for the collapse chosen.
-        for (Entry& c : candidates_) {
+        // No collapse carries less than u's faces do already (the new faces cover the old ones):
+        // one that adds nothing is the best, and the rest need no look.
+        for (std::size_t i = 0; i < candidates_.size(); ++i) {
             double error = 0;
+            Entry& c = candidates_[i];
             c.cost = geometry_allows(u, c.vertex, error) ? error : std::numeric_limits<double>::infinity();
+            if (c.cost <= spent) {
+                candidates_.resize(i + 1);
+                break;
+            }
         }
         std::stable_sort(candidates_.begin(), candidates_.end(), [](const Entry& a, const Entry& b) { return a.cost < b.cost; });
         for (const Entry& c : candidates_) {

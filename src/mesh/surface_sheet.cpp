@@ -11,6 +11,7 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace lasmesh {
 
@@ -140,10 +141,100 @@ bool along_plane(const Planes& planes, std::uint32_t p, std::uint32_t q) {
     return across <= 0.5 * std::sqrt(dot(step, step));
 }
 
+// The space outside every surface, as a scanner above sees it: a coarse voxel grid (at most 256
+// voxels an axis, a voxel 2^k cells, one voxel of margin all round) where voxels near surface
+// cells are walls, flooded from its top through the others (a breadth-first search, six
+// neighbours). The inside of a closed box or of a sphere is never reached, nor the space under a
+// deck or a terrain that spans the grid: their top sides are outside.
+struct Outside {
+    int shift = 0;                       // a voxel is 2^shift cells
+    std::array<std::int64_t, 3> size{};  // voxels per axis, with one voxel of margin all round
+    std::vector<char> reached;           // per voxel, x fastest
+
+    explicit Outside(const Planes& planes) {
+        const auto& dims = planes.grid.spec.dims;
+        while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift) > 256) ++shift;
+        for (int a = 0; a < 3; ++a) size[a] = ((std::int64_t{dims[a]} + (1 << shift) - 1) >> shift) + 2;
+        std::vector<char> wall(static_cast<std::size_t>(size[0] * size[1] * size[2]), 0);
+        // A voxel holding a surface cell, and its six neighbours, are walls: gaps of a voxel close.
+        for (const auto& c : planes.cell) {
+            const std::array<std::int64_t, 3> v{(c[0] >> shift) + 1, (c[1] >> shift) + 1, (c[2] >> shift) + 1};
+            wall[index(v)] = 1;
+            for (int a = 0; a < 3; ++a)
+                for (const int d : {-1, 1}) {
+                    std::array<std::int64_t, 3> w = v;
+                    w[a] += d;
+                    if (w[a] >= 0 && w[a] < size[a]) wall[index(w)] = 1;
+                }
+        }
+        reached.assign(wall.size(), 0);
+        std::vector<std::array<std::int64_t, 3>> queue;
+        for (std::int64_t y = 0; y < size[1]; ++y)
+            for (std::int64_t x = 0; x < size[0]; ++x)
+                if (const std::array<std::int64_t, 3> v{x, y, size[2] - 1}; !wall[index(v)]) reached[index(v)] = 1, queue.push_back(v);
+        for (std::size_t i = 0; i < queue.size(); ++i)
+            for (int a = 0; a < 3; ++a)
+                for (const int d : {-1, 1}) {
+                    std::array<std::int64_t, 3> w = queue[i];
+                    w[a] += d;
+                    if (w[a] < 0 || w[a] >= size[a] || wall[index(w)] || reached[index(w)]) continue;
+                    reached[index(w)] = 1;
+                    queue.push_back(w);
+                }
+    }
+    std::size_t index(const std::array<std::int64_t, 3>& v) const {
+        return static_cast<std::size_t>((v[2] * size[1] + v[1]) * size[0] + v[0]);
+    }
+    // Whether the space 2.5 and 3.5 voxels from `point` (relative to the grid origin) along
+    // `direction` is outside (past the walls around the point's own voxel); `cell` is the grid's.
+    bool open(const Vec& point, const Vec& direction, double cell) const {
+        const double voxel = cell * double(1 << shift);
+        for (const double steps : {2.5, 3.5}) {
+            std::array<std::int64_t, 3> v{};
+            for (int a = 0; a < 3; ++a) {
+                v[a] = static_cast<std::int64_t>(std::floor((point[a] + direction[a] * steps * voxel) / voxel)) + 1;
+                if (v[a] < 0 || v[a] >= size[a]) return a != 2 || v[a] >= size[a]; // past the sides or the top: outside
+            }
+            if (reached[index(v)]) return true;
+        }
+        return false;
+    }
+};
+
+// Neighbouring planes closer to parallel than this (the cosine of 25 degrees) continue one smooth
+// surface; at a box's edge (90 degrees) the cells' planes turn in steps of about 45.
+constexpr double smooth_cosine = 0.9;
+
 // Step 2: consistent orientation by a maximum spanning tree (Prim, bucketed weights |n_p . n_q|),
-// grown from the first plane of each connected piece; then each piece faces mostly up.
-void orient_normals(Planes& planes) {
+// grown from the first plane of each connected piece (Hoppe et al., "Surface reconstruction from
+// unorganized points", 1992): neighbours must agree, or the extraction leaves a crack where they
+// meet. A plane whose neighbourhood sees the outside on one side only (`outside_side`, from
+// Outside: a box's wall, a roof, a deck) joins a piece only facing the way the piece's first such
+// plane does: a box's wall reached from a floor inside the box (as on decks scanned under their
+// containers) starts a piece of its own instead of turning inward. Then each piece faces the way
+// most of its planes that see a side say, by their point counts; with none, outward when it
+// encloses something (its normals point away from its centroid on the whole: a sphere), else up.
+void orient_normals(Planes& planes, const Outside& outside) {
     const std::size_t n = planes.cell.size();
+    const double h = planes.grid.spec.cell_size;
+    // Which side of each plane is outside: +1 its normal's, -1 the other, 0 both or neither; then
+    // the same by its 3 x 3 x 3 neighbourhood's count-weighted majority (a stray plane's own view
+    // would start a piece and leave a crack around it).
+    std::vector<std::int8_t> own(n, 0), seen(n, 0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+        const Vec& normal = planes.normal[p];
+        const bool front = outside.open(planes.centroid[p], normal, h);
+        const bool back = outside.open(planes.centroid[p], Vec{-normal[0], -normal[1], -normal[2]}, h);
+        own[p] = front == back ? 0 : front ? 1 : -1;
+    });
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+        double sum = static_cast<double>(own[p]) * static_cast<double>(planes.count[p]);
+        planes.for_each_neighbour(std::uint32_t(p), [&](std::uint32_t q) {
+            const double along = dot(planes.normal[p], planes.normal[q]);
+            if (std::abs(along) > 0.5) sum += (along < 0 ? -own[q] : own[q]) * static_cast<double>(planes.count[q]);
+        });
+        seen[p] = sum > 0 ? 1 : sum < 0 ? -1 : 0;
+    });
     constexpr int levels = 16;
     std::vector<std::int8_t> best(n, -1);
     std::vector<std::uint32_t> parent(n, no_plane);
@@ -155,6 +246,8 @@ void orient_normals(Planes& planes) {
         piece.clear();
         parent[seed] = seed;
         buckets[levels].push_back(seed);
+        double votes = 0;            // point counts of the planes whose outside is their normal's side now, less the others'
+        std::int8_t outside_side = 0; // that side, as the piece's first plane to see one saw it
         for (int level = levels; level >= 0;) {
             if (buckets[level].empty()) {
                 --level;
@@ -163,10 +256,21 @@ void orient_normals(Planes& planes) {
             const std::uint32_t p = buckets[level].back();
             buckets[level].pop_back();
             if (done[p]) continue;
+            Vec& np = planes.normal[p];
+            const double along = parent[p] != p ? dot(np, planes.normal[parent[p]]) : 1.0;
+            const bool turn = along < 0;
+            const std::int8_t side = static_cast<std::int8_t>(turn ? -seen[p] : seen[p]);
+            // Parted only round an edge: along a smooth surface a crack would cost more.
+            if (side != 0 && outside_side != 0 && side != outside_side && std::abs(along) < smooth_cosine) {
+                best[p] = -1; // another neighbour may take it, or it starts a piece
+                continue;
+            }
             done[p] = true;
             piece.push_back(p);
-            Vec& np = planes.normal[p];
-            if (parent[p] != p && dot(np, planes.normal[parent[p]]) < 0) np = {-np[0], -np[1], -np[2]};
+            if (turn) np = {-np[0], -np[1], -np[2]};
+            seen[p] = side;
+            if (side != 0 && outside_side == 0) outside_side = side;
+            votes += static_cast<double>(side) * static_cast<double>(planes.count[p]);
             planes.for_each_neighbour(p, [&](std::uint32_t q) {
                 if (done[q] || !along_plane(planes, p, q) || !along_plane(planes, q, p)) return;
                 const auto w = static_cast<std::int8_t>(std::lround(std::abs(dot(np, planes.normal[q])) * levels));
@@ -177,11 +281,69 @@ void orient_normals(Planes& planes) {
                 level = std::max<int>(level, w);
             });
         }
-        double up = 0;
-        for (std::uint32_t p : piece) up += static_cast<double>(planes.count[p]) * planes.normal[p][2];
-        if (up < 0)
+        // Outward: the normals' count-weighted agreement with the directions from the piece's
+        // centroid, against the whole weight; a flat or open piece scores near 0.
+        Vec centre{};
+        double weight = 0;
+        for (std::uint32_t p : piece) {
+            const double w = static_cast<double>(planes.count[p]);
+            for (int a = 0; a < 3; ++a) centre[a] += w * planes.centroid[p][a];
+            weight += w;
+        }
+        for (double& c : centre) c /= weight;
+        double outward = 0, up = 0;
+        for (std::uint32_t p : piece) {
+            const double w = static_cast<double>(planes.count[p]);
+            const Vec& c = planes.centroid[p];
+            const Vec away{c[0] - centre[0], c[1] - centre[1], c[2] - centre[2]};
+            const double length = std::sqrt(dot(away, away));
+            if (length > 0) outward += w * dot(planes.normal[p], away) / length;
+            up += w * planes.normal[p][2];
+        }
+        const bool encloses = std::abs(outward) > 0.5 * weight;
+        if (votes != 0 ? votes < 0 : encloses ? outward < 0 : up < 0)
             for (std::uint32_t p : piece) planes.normal[p] = {-planes.normal[p][0], -planes.normal[p][1], -planes.normal[p][2]};
     }
+}
+
+// Step 5: each connected part of the mesh faces the outside. The sheets of surfaces that meet at a
+// sharp edge (a deck and a box's walls, the walls and the roof) are separate parts, so each can
+// turn on its own, and no part is split. A part turns (winding and normals) when the area of its
+// triangles with the outside behind them and not in front exceeds the area with it in front and
+// not behind: a box's wall reached by the spanning tree from the floor inside the box.
+void face_outside(Mesh& mesh, const Outside& outside, double cell) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<std::uint32_t> root(nv);
+    for (std::uint32_t v = 0; v < nv; ++v) root[v] = v;
+    const auto find = [&](std::uint32_t v) {
+        while (root[v] != v) v = root[v] = root[root[v]];
+        return v;
+    };
+    for (const auto& t : mesh.triangles)
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t a = find(t[0]), b = find(t[k]);
+            if (a != b) root[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<double> votes(nv, 0); // per part, at its root
+    for (const auto& t : mesh.triangles) {
+        Vec p[3];
+        for (int k = 0; k < 3; ++k) p[k] = {mesh.positions[t[k]][0], mesh.positions[t[k]][1], mesh.positions[t[k]][2]};
+        const Vec u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]}, w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+        Vec normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const double twice_area = std::sqrt(dot(normal, normal));
+        if (!(twice_area > 0)) continue;
+        for (double& c : normal) c /= twice_area;
+        const Vec centre{(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3, (p[0][2] + p[1][2] + p[2][2]) / 3};
+        const bool front = outside.open(centre, normal, cell), back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
+        if (front != back) votes[find(t[0])] += front ? twice_area : -twice_area;
+    }
+    std::vector<char> turn(nv, 0);
+    for (std::uint32_t v = 0; v < nv; ++v) turn[v] = votes[find(v)] < 0;
+    for (auto& t : mesh.triangles)
+        if (turn[t[0]]) std::swap(t[1], t[2]);
+    for (std::uint32_t v = 0; v < nv && !mesh.normals.empty(); ++v)
+        if (turn[v])
+            for (float& c : mesh.normals[v]) c = -c;
 }
 
 // Steps 3 and 4: the signed distance at the cell corners, as a field for sparse marching cubes.
@@ -319,7 +481,8 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
-    orient_normals(planes);
+    const Outside outside(planes);
+    orient_normals(planes, outside);
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
     std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
     std::vector<std::uint64_t>().swap(planes.count);
@@ -340,6 +503,7 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     };
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color(), sampled);
     agree_normals_with_faces(mesh);
+    face_outside(mesh, outside, grid.spec.cell_size);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;

@@ -105,6 +105,7 @@ void add_deck(Scene& s) {
     container(p, {6, 7, 0}, {6, 2.5, 2.6}, {30, 80, 160});
     container(p, {20, 3, 0}, {6, 2.5, 2.6}, {180, 30, 30});
     container(p, {22, 15, 0}, {6, 2.5, 5.2}, {40, 140, 60});
+    s.footprints = {{6, 3, 18, 5.5}, {6, 7, 12, 9.5}, {20, 3, 26, 5.5}, {22, 15, 28, 17.5}};
 
     // Railings along both long edges: top and middle rails, posts every two metres.
     for (double y : {0.3, width_y - 0.3}) {
@@ -226,6 +227,8 @@ Vec3 sample_primitive(const Primitive& p, Random& rng) {
 }
 
 bool in_hole(const Scene& s, const Vec3& q) {
+    for (const auto& [x0, y0, x1, y1] : s.footprints)
+        if (q[0] > x0 && q[0] < x1 && q[1] > y0 && q[1] < y1) return true;
     for (const Hole& h : s.holes) {
         Vec3 d{q[0] - h.centre[0], q[1] - h.centre[1], q[2] - h.centre[2]};
         if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < h.radius * h.radius) return true;

@@ -24,7 +24,8 @@ struct PieceCount {
     double min_diagonal = 0; // the threshold in file units
 };
 
-// Removes every connected piece (triangles linked through shared vertices) whose bounding-box
+// Removes every connected piece (triangles linked through shared vertices, and pieces whose open
+// borders come within a cell of each other: mesh.cell_size, when set) whose bounding-box
 // diagonal is below the threshold, and the vertices only they used. The order of what stays
 // is kept, so the result is as deterministic as the input.
 PieceCount remove_small_pieces(Mesh& mesh, MinPiece min_piece);
