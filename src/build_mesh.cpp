@@ -242,11 +242,6 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     LasReader reader(input);
     // An empty mesh is no use and Draco cannot encode one: say so before any device work.
     const LasHeader& header = reader.header();
-    if (header.point_count == 0 && header.version_minor >= 4 && header.legacy_point_count > 0)
-        throw_input_error(reader.stream().name(),
-                          "the header promises no point records: its 64-bit point count (bytes 247-254) is 0 but "
-                          "its legacy point count (bytes 107-110) is " + std::to_string(header.legacy_point_count) +
-                          ": the header is inconsistent; rewrite it, e.g. with `las2las`");
     if (header.point_count == 0)
         throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
     if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());

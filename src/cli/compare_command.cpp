@@ -55,10 +55,10 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
     c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 34));
+        ->check(whole_number(1, std::uint64_t{1} << 34));
     c->add_option("--mesh-samples", o.mesh_samples, "Points sampled on the mesh for the mesh-to-cloud distances")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000})); // 3.2 GB of samples and distances
+        ->check(whole_number(1, 100'000'000)); // 3.2 GB of samples and distances
     c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
         ->check(positive_number());
     c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud");

@@ -13,7 +13,7 @@ namespace lasmesh::cli {
 void add_grid_options(CLI::App& command, GridOptions& o) {
     command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
         ->capture_default_str();
-    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)");
+    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)")->check(positive_number());
     CLI::Option* bounds =
         command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
     command.add_flag("--scan-bounds", o.scan_bounds,

@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
     info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
     info_command->add_option("--chunk-points", info.chunk_points, "Records per read while scanning")
         ->capture_default_str()
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+        ->check(lasmesh::cli::whole_number(1, std::uint64_t{1} << 30));
 
     lasmesh::cli::GridCommandOptions grid;
     CLI::App* grid_command = app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");

@@ -45,9 +45,8 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("--surface", o.surface,
                    "sheet: one open sheet through the points of each surface (accurate below the cell); "
                    "closed: a watertight surface around the occupied cells (solids, 3D printing)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, SurfaceKind>{{"sheet", SurfaceKind::sheet},
-                                                                               {"closed", SurfaceKind::closed}}))
-        ->default_str("sheet");
+        ->capture_default_str()
+        ->check(one_of({"sheet", "closed"}));
     app.add_option("--placement", o.placement,
                    "With --surface closed: vertices on the scanned surface (surface) or on the iso level set "
                    "as in classic marching cubes (iso)")
@@ -75,8 +74,8 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
         ->check(draco_bits_check());
     app.add_option("--draco-level", o.draco.level, "Draco compression level, 0 (fastest) to 10 (smallest)")
         ->capture_default_str()
-        ->check(CLI::Range(0, 10));
-    app.add_option("--threads", o.threads, "Threads for extraction (default: all cores)")->check(CLI::Range(1, 1024));
+        ->check(whole_number(0, 10));
+    app.add_option("--threads", o.threads, "Threads for extraction (default: all cores)")->check(whole_number(1, 1024));
     app.add_option("--report", o.report, "Also write the summary as JSON to this file (for pipelines)");
     app.add_flag("-q,--quiet", o.quiet, "No progress line and no summary; errors only");
     app.add_flag("-v,--verbose", o.verbose, "Details of each stage as it ends");
@@ -104,7 +103,7 @@ BuildOptions build_options(const MeshOptions& o) {
     b.simplify = parse_simplify(o.simplify);
     b.normals = o.normals;
     b.placement = parse_placement(o.placement);
-    b.surface = o.surface;
+    b.surface = parse_surface(o.surface);
     b.device = o.grid.device;
     b.threads = o.threads;
     b.scan_bounds = o.grid.scan_bounds;

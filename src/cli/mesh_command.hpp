@@ -16,7 +16,7 @@ struct MeshOptions {
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
     std::string iso = "auto";
-    SurfaceKind surface = SurfaceKind::sheet;
+    std::string surface = "sheet";
     std::string placement = "surface";
     std::string min_piece = "5%";
     std::string simplify = "0.5cell";

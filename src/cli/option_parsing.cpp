@@ -151,4 +151,36 @@ std::string flag_hint(const std::string& option, const std::string& message) {
     return " (" + flag->second + ")";
 }
 
+CLI::Validator whole_number(std::uint64_t lowest, std::uint64_t highest) {
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            std::uint64_t value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < lowest || value > highest)
+                return "expected a whole number from " + std::to_string(lowest) + " to " + std::to_string(highest) + ", got \"" +
+                       text + "\"";
+            return "";
+        },
+        std::to_string(lowest) + "-" + std::to_string(highest));
+}
+
+CLI::Validator one_of(const std::vector<std::string>& words) {
+    std::string list;
+    for (std::size_t i = 0; i < words.size(); ++i) list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    std::string bar;
+    for (std::size_t i = 0; i < words.size(); ++i) bar += (i ? "|" : "") + words[i];
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            if (std::find(words.begin(), words.end(), text) != words.end()) return "";
+            return "expected " + list + ", got \"" + text + "\"";
+        },
+        bar);
+}
+
+SurfaceKind parse_surface(const std::string& text) {
+    if (text == "sheet") return SurfaceKind::sheet;
+    if (text == "closed") return SurfaceKind::closed;
+    usage_error("--surface \"" + text + "\": expected sheet or closed");
+}
+
 } // namespace lasmesh::cli

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace lasmesh::cli {
 
@@ -40,5 +41,12 @@ CLI::Validator positive_number();
 // " (--scan-bounds)": the flag that sets the library option an error names (Error::option), to
 // append to `message`; empty when the error names none or the message names the flag already.
 std::string flag_hint(const std::string& option, const std::string& message);
+
+// Validators whose messages say what was expected and what was given, in the words of our own
+// errors ("expected a whole number from 1 to 1024, got \"abc\"").
+CLI::Validator whole_number(std::uint64_t lowest, std::uint64_t highest);
+CLI::Validator one_of(const std::vector<std::string>& words);
+
+SurfaceKind parse_surface(const std::string& text);
 
 } // namespace lasmesh::cli

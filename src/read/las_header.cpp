@@ -147,6 +147,12 @@ LasHeader read_las_header(InputStream& in) {
     b = block.data();
     read_exactly(in, block.data() + 227, h.header_size - 227u, "the LAS header");
     if (h.version_minor >= 4) h.point_count = load_le<std::uint64_t>(b + 247);
+    // LAS 1.4 keeps the legacy count 0 (formats 6-10, or past 2^32) or equal to the 64-bit one:
+    // a legacy count that the 64-bit count contradicts leaves no count to trust.
+    if (h.version_minor >= 4 && h.legacy_point_count != 0 && h.legacy_point_count != h.point_count)
+        throw_input_error(in.name(), "its 64-bit point count (bytes 247-254) is " + std::to_string(h.point_count) +
+                                         " but its legacy point count (bytes 107-110) is " + std::to_string(h.legacy_point_count) +
+                                         ": the header is inconsistent; rewrite it, e.g. with `las2las`");
     if (h.version_minor >= 3) h.start_after_points = load_le<std::uint64_t>(b + 227); // waveform data
     if (h.version_minor >= 4 && h.start_after_points == 0) h.start_after_points = load_le<std::uint64_t>(b + 235);
 

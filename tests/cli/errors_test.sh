@@ -161,9 +161,9 @@ check "the mesh is untouched" cmp -s m.ply m-copy.ply
 # Silent wrong results.
 python3 -c 'd = bytearray(open("ok.las.gz", "rb").read()); d[-8] ^= 0xFF; open("bad-crc.las.gz", "wb").write(d)'
 expect "gzip CRC checked after the last record" 2 'bad-crc.las.gz: corrupt or truncated gzip stream near compressed byte' "$L bad-crc.las.gz"
-expect "--voxel 0" 1 '--voxel 0: the cell edge must be a positive number' "$L ok.las --voxel 0"
-expect "--voxel -1" 1 '--voxel -1: the cell edge must be a positive number' "$L ok.las --voxel=-1"
-expect "--voxel nan" 1 'the cell edge must be a positive number' "$L ok.las --voxel nan"
+expect "--voxel 0" 1 '--voxel: expected a positive number, got "0"' "$L ok.las --voxel 0"
+expect "--voxel -1" 1 '--voxel: expected a positive number, got "-1"' "$L ok.las --voxel=-1"
+expect "--voxel nan" 1 '--voxel: expected a positive number, got "nan"' "$L ok.las --voxel nan"
 patch ok.las huge-bounds.las 179 6d 1e300 -1e300 1e300 -1e300 1e300 -1e300
 expect "header bounds of 1e300" 2 'huge-bounds.las: header bounds min/max X (bytes 179-194: -1e+300 to 1e+300) lie beyond every coordinate' "$L huge-bounds.las"
 patch ok.las huger-bounds.las 179 6d 1e308 -1e308 1e308 -1e308 1e308 -1e308
@@ -236,6 +236,16 @@ expect_exactly "compare on a directory" 2 'folder.ply: is a directory, expected 
 patch v14.las v14-count.las 247 Q 0
 patch v14-count.las v14-count.las 107 I 20000
 expect "LAS 1.4 count 0, legacy count not" 2 'its 64-bit point count (bytes 247-254) is 0 but its legacy point count (bytes 107-110) is 20000' "$L v14-count.las"
+expect_exactly "LAS 1.4 count 0, legacy count not: info says so too" 2 'v14-count.las: its 64-bit point count (bytes 247-254) is 0 but its legacy point count (bytes 107-110) is 20000: the header is inconsistent' "$L info v14-count.las"
+expect_exactly "LAS 1.4 count 0, legacy count not: and grid" 2 'the header is inconsistent' "$L grid v14-count.las"
+
+# Option values in our own words (what was expected, what was given), not the parser's.
+expect "--surface bogus" 1 '--surface: expected sheet or closed, got "bogus"' "$L ok.las --surface bogus"
+expect "--surface 1 is no surface" 1 '--surface: expected sheet or closed, got "1"' "$L ok.las --surface 1"
+expect "--threads abc" 1 '--threads: expected a whole number from 1 to 1024, got "abc"' "$L ok.las --threads abc"
+expect "--draco-level 11" 1 '--draco-level: expected a whole number from 0 to 10, got "11"' "$L ok.las --draco-level 11"
+expect "--voxel abc" 1 '--voxel: expected a positive number, got "abc"' "$L ok.las --voxel abc"
+expect "--placement iso with the sheet" 1 'vertices on the iso level are for the closed surface only' "$L ok.las --placement iso"
 head -c 2000 ok.las.zst > truncated.las.zst
 expect "truncated zstd" 2 'truncated.las.zst: corrupt or truncated zstd stream' "$L truncated.las.zst"
 bzip2 -c ok.las > ok.las.bz2

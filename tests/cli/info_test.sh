@@ -58,4 +58,8 @@ check "help lists info" contains "$dir/help.txt" "info"
 "$lasmesh" --version > "$dir/version.txt"
 check "version" contains "$dir/version.txt" "lasmesh "
 
+# lasgen sizes its batches by bytes and by the points asked: 100 records of 65,535 bytes fit in a
+# gigabyte of address space (a batch of 2^18 of them took 17 GB).
+(ulimit -v 1000000; "$lasgen" --scene sphere --points 100 --extra-bytes 65501 -o "$dir/long.las")
+check "lasgen: 100 records of 65,535 bytes within 1 GB of address space" test "$(stat -c %s "$dir/long.las" 2> /dev/null)" -gt 6500000
 finish "cli info"
