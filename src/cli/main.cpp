@@ -24,7 +24,7 @@ constexpr int exit_internal_error = 5;
 
 int main(int argc, char** argv) {
     lasmesh::cli::handle_signals(); // before any thread exists
-    lasmesh::cli::use_own_kernel_cache();
+    const lasmesh::cli::KernelCache kernel_cache;
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
     app.require_subcommand(0, 1);
@@ -79,6 +79,12 @@ int main(int argc, char** argv) {
     }
 
     try {
+        // Every command but info compiles the kernels (devices lists devices, whose platforms it
+        // opens, but compiles nothing).
+        if (!*info_command && !*devices_command) {
+            if (const std::string problem = kernel_cache.problem(); !problem.empty())
+                throw lasmesh::Error(lasmesh::ErrorKind::output, problem);
+        }
         if (*info_command) lasmesh::cli::run_info(info, std::cout, std::cerr);
         if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
         if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);

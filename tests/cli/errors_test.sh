@@ -198,6 +198,15 @@ mkdir home
 HOME=$dir/home XDG_CACHE_HOME= POCL_CACHE_DIR= "$lasmesh" ok.las -o cache.ply --grid 16 -q 2> /dev/null
 check "PoCL's kernel cache goes to lasmesh's own folder" test -d home/.cache/lasmesh/pocl
 check "and not to PoCL's shared one" test ! -e home/.cache/pocl
+# A cache folder that cannot be made (.cache is a file here; read-only for a user): a temporary
+# one serves the run and goes with it, rather than PoCL finding no platform.
+mkdir -p filehome tmp && touch filehome/.cache
+HOME=$dir/filehome XDG_CACHE_HOME= POCL_CACHE_DIR= TMPDIR=$dir/tmp "$lasmesh" ok.las -o nocache.ply --grid 16 -q 2> nocache.txt
+check "no writable cache folder: meshed all the same (got: $(head -c 200 nocache.txt))" test -s nocache.ply
+check "no writable cache folder: its temporary one is gone" test -z "$(ls -A tmp)"
+# A file size limit under what the kernel compiler writes: said before anything, exit 4 (LLVM
+# would end the run itself with exit 1).
+expect "ulimit -f below the kernel compiler's files" 4 'the file size limit (ulimit -f) of 1.0 MiB is below the 4.0 MiB the OpenCL compiler may write' "ulimit -f 1024; $L ok.las"
 
 # Memory bounded by options, not by input fields.
 python3 - <<'PY'
