@@ -1,0 +1,169 @@
+// build_mesh as a library call, with no command line in front of it: its own checks on the
+// options (before anything is read), what it writes (every output or none, the report with
+// them), and its errors' kinds and the option each names.
+#include "lasmesh/build_mesh.hpp"
+#include "lasmesh/error.hpp"
+
+#include <doctest/doctest.h>
+
+#include "test_support.hpp"
+
+#include <cstdio>
+#include <fcntl.h>
+#include <filesystem>
+#include <limits>
+#include <unistd.h>
+
+using namespace lasmesh;
+
+namespace {
+
+// The error build_mesh throws, or a failed check when it throws none.
+Error error_of(const std::string& input, const BuildOptions& options) {
+    try {
+        build_mesh(input, options);
+    } catch (const Error& e) {
+        return e;
+    }
+    FAIL("no error");
+    return Error(ErrorKind::usage, "");
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+OutputRequest request(const std::string& path, std::optional<MeshFormat> format = std::nullopt) {
+    OutputRequest output;
+    output.path = path;
+    output.format = format;
+    return output;
+}
+
+// A small deck scan, and options that mesh it quickly.
+struct Fixture {
+    test::TempDir dir;
+    std::string input = dir.file("deck.las");
+    Fixture() {
+        lasgen::SceneOptions scene;
+        scene.origin = {0, 0, 0};
+        test::write_file(input, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), 60000, 3));
+    }
+    BuildOptions options(const std::vector<std::string>& outputs) const {
+        BuildOptions o;
+        o.grid.dims = {64, 0, 0};
+        for (const std::string& name : outputs) o.outputs.push_back(request(dir.file(name)));
+        return o;
+    }
+};
+
+} // namespace
+
+TEST_CASE("build_mesh: each output's format from its extension unless given; the report beside them") {
+    Fixture f;
+    BuildOptions o = f.options({"a.glb", "a.drc", "a.ply"});
+    o.outputs.push_back(request(f.dir.file("forced.bin"), MeshFormat::ply));
+    o.report = f.dir.file("report.json");
+    const BuildResult result = build_mesh(f.input, o);
+    CHECK(result.report.triangles > 1000);
+    const auto head = [](const std::string& path, std::size_t n) {
+        const test::Bytes bytes = test::read_file(path);
+        return std::string(reinterpret_cast<const char*>(bytes.data()), std::min(n, bytes.size()));
+    };
+    CHECK(head(f.dir.file("a.glb"), 4) == "glTF");
+    CHECK(head(f.dir.file("a.drc"), 5) == "DRACO");
+    CHECK(head(f.dir.file("a.ply"), 3) == "ply");
+    CHECK(head(f.dir.file("forced.bin"), 3) == "ply");
+    const std::string report = head(f.dir.file("report.json"), 1 << 20);
+    CHECK(contains(report, "\"triangles\":" + std::to_string(result.report.triangles)));
+    CHECK(contains(report, "\"path\":\"" + f.dir.file("a.glb") + "\""));
+    CHECK(!contains(report, "placement")); // the sheet has no vertex placement to report
+}
+
+TEST_CASE("build_mesh: its own checks, before the input is read") {
+    Fixture f;
+    const std::string missing = f.dir.file("missing.las"); // never opened: the checks come first
+    SUBCASE("no output") {
+        const Error e = error_of(missing, f.options({}));
+        CHECK(e.kind() == ErrorKind::usage);
+        CHECK(e.option() == "outputs");
+    }
+    SUBCASE("an unknown extension") {
+        const Error e = error_of(missing, f.options({"x.obj"}));
+        CHECK(e.kind() == ErrorKind::usage);
+        CHECK(e.option() == "outputs");
+        CHECK(contains(e.what(), "x.obj\": unknown extension"));
+    }
+    SUBCASE("a missing output folder") {
+        BuildOptions o = f.options({});
+        o.outputs.push_back(request(f.dir.file("no/such/x.ply")));
+        CHECK(error_of(missing, o).kind() == ErrorKind::output);
+    }
+    SUBCASE("an output over the input, over another output, or the report over one") {
+        BuildOptions over_input = f.options({});
+        over_input.outputs.push_back(request(f.input, MeshFormat::ply));
+        const Error e = error_of(f.input, over_input);
+        CHECK(e.kind() == ErrorKind::usage);
+        CHECK(contains(e.what(), "are the same file"));
+        BuildOptions twice = f.options({"x.ply", "./x.ply"});
+        CHECK(contains(error_of(f.input, twice).what(), "are the same file"));
+        BuildOptions report = f.options({"x.ply"});
+        report.report = f.dir.file("x.ply");
+        CHECK(contains(error_of(f.input, report).what(), "the report"));
+        CHECK(test::read_file(f.input).size() > 60000 * 20); // the input untouched
+    }
+    SUBCASE("standard input redirected from the output's file") {
+        test::write_file(f.dir.file("in.ply"), test::read_file(f.input));
+        const int saved = ::dup(STDIN_FILENO);
+        const int file = ::open(f.dir.file("in.ply").c_str(), O_RDONLY);
+        REQUIRE(file >= 0);
+        ::dup2(file, STDIN_FILENO);
+        ::close(file);
+        std::string message;
+        try {
+            build_mesh("-", f.options({"in.ply"}));
+        } catch (const Error& e) {
+            message = e.what();
+        }
+        ::dup2(saved, STDIN_FILENO);
+        ::close(saved);
+        CHECK(contains(message, "are the same file"));
+        CHECK(test::read_file(f.dir.file("in.ply")) == test::read_file(f.input));
+    }
+    SUBCASE("options that make no sense") {
+        const auto option_of = [&](const BuildOptions& o) {
+            const Error e = error_of(missing, o);
+            CHECK(e.kind() == ErrorKind::usage);
+            return e.option();
+        };
+        BuildOptions o = f.options({"x.ply"});
+        o.placement = VertexPlacement::iso; // the sheet has none
+        CHECK(option_of(o) == "placement");
+        o = f.options({"x.ply"});
+        o.iso = -1;
+        CHECK(option_of(o) == "iso");
+        o = f.options({"x.ply"});
+        o.simplify.error = std::numeric_limits<double>::quiet_NaN();
+        CHECK(option_of(o) == "simplify");
+        o = f.options({"x.ply"});
+        o.min_piece = {2, true}; // 200% of the diagonal
+        CHECK(option_of(o) == "min_piece");
+        o = f.options({"x.ply"});
+        o.threads = -1;
+        CHECK(option_of(o) == "threads");
+        o = f.options({"x.ply"});
+        o.scan_bounds = true; // standard input cannot be read twice
+        const Error e = error_of("-", o);
+        CHECK(e.option() == "scan_bounds");
+    }
+}
+
+TEST_CASE("build_mesh: an empty mesh is an error, and nothing is written") {
+    Fixture f;
+    BuildOptions o = f.options({"e.ply", "e.glb"});
+    o.min_piece = {1e9, false};
+    o.report = f.dir.file("e.json");
+    const Error e = error_of(f.input, o);
+    CHECK(e.kind() == ErrorKind::input);
+    CHECK(e.option() == "min_piece");
+    CHECK(contains(e.what(), "the mesh is empty, nothing written"));
+    for (const char* name : {"e.ply", "e.glb", "e.json"}) CHECK(!std::filesystem::exists(f.dir.file(name)));
+}
