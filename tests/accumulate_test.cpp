@@ -4,6 +4,7 @@
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/error.hpp"
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
+#include "lasmesh/byte_order.hpp"
 #include "lasmesh/read/las_point.hpp"
 #include "grid/opencl_device.hpp" // internal: build_program
 #include "test_support.hpp"
@@ -531,5 +532,121 @@ TEST_CASE("points on the header's bounds are inside the grid, even where the sca
         std::uint64_t total = 0;
         for (const CellSums& c : g.cells) total += c.count;
         CHECK(total == 101);
+    }
+}
+
+namespace {
+
+// Every sum of every cell, worked out here from the raw records in plain loops: a cell's start on
+// an axis is the smallest raw integer whose coordinate (raw * scale + offset, in doubles, as LAS
+// defines it) reaches origin + i * cell, found by stepping from an estimate, not the library's
+// bisection; the last cell is closed at its top.
+struct HostSums {
+    std::map<std::array<std::int64_t, 3>, CellSums> cells;
+    std::uint64_t outside = 0;
+};
+
+HostSums host_sums(const std::string& path, const GridSpec& g) {
+    LasReader reader(path);
+    const LasHeader& h = reader.header();
+    std::array<std::vector<std::int64_t>, 3> starts;
+    for (int a = 0; a < 3; ++a)
+        for (std::uint32_t i = 0; i <= g.dims[a]; ++i) {
+            const double limit = g.origin[a] + i * g.cell_size;
+            const bool closed = i == g.dims[a]; // the top: the first raw strictly above it
+            const auto passes = [&](std::int64_t r) {
+                const double x = static_cast<double>(r) * h.scale[a] + h.offset[a];
+                return closed ? x > limit : x >= limit;
+            };
+            auto r = static_cast<std::int64_t>(std::floor((limit - h.offset[a]) / h.scale[a]));
+            while (passes(r - 1)) --r;
+            while (!passes(r)) ++r;
+            starts[a].push_back(r);
+        }
+    const PointDecoder decoder(h);
+    const int rgb = rgb_offset(h.point_format);
+    HostSums sums;
+    Bytes records(h.point_count * decoder.record_length + 1);
+    const std::size_t n = reader.read_records(records);
+    for (std::size_t p = 0; p < n; ++p) {
+        const std::byte* record = records.data() + p * decoder.record_length;
+        std::array<std::int64_t, 3> cell{}, raw{};
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+            raw[a] = load_le<std::int32_t>(record + 4 * a);
+            if (raw[a] < starts[a].front() || raw[a] >= starts[a].back()) inside = false;
+            else while (raw[a] >= starts[a][static_cast<std::size_t>(cell[a]) + 1]) ++cell[a];
+        }
+        if (!inside) {
+            ++sums.outside;
+            continue;
+        }
+        CellSums& c = sums.cells[cell];
+        ++c.count;
+        for (int a = 0; a < 3; ++a) {
+            c.position[a] += static_cast<std::uint64_t>(raw[a] - starts[a][static_cast<std::size_t>(cell[a])]);
+            if (rgb >= 0) c.color[a] += load_le<std::uint16_t>(record + rgb + 2 * a);
+        }
+    }
+    return sums;
+}
+
+void check_against_host(const DensityGrid& g, const HostSums& expected) {
+    CHECK(g.points_outside == expected.outside);
+    CHECK(g.occupied_cells() == expected.cells.size());
+    std::size_t wrong = 0;
+    for (const auto& [cell, sums] : expected.cells) {
+        const CellSums* got = g.find(cell[0], cell[1], cell[2]);
+        const bool same = got && got->count == sums.count && got->position == sums.position && (!g.has_color() || got->color == sums.color);
+        if (!same && ++wrong <= 3) {
+            MESSAGE("cell " << cell[0] << " " << cell[1] << " " << cell[2] << ": expected count " << sums.count << ", position "
+                            << sums.position[0] << " " << sums.position[1] << " " << sums.position[2]);
+            if (got) MESSAGE("got count " << got->count << ", position " << got->position[0] << " " << got->position[1] << " " << got->position[2]);
+        }
+    }
+    CHECK(wrong == 0);
+}
+
+} // namespace
+
+TEST_CASE("every cell's count, position and colour sums equal a plain host accumulation of the same records") {
+    test::TempDir dir;
+    SUBCASE("runs of records on a cell's start along y, off it along x and z (the sums a flush can skip)") {
+        // In acquisition order, 40 records a cell: a run's y offsets add up to 0, its z offsets do not.
+        std::vector<lasgen::GeneratedPoint> points;
+        std::uint64_t state = 5;
+        auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
+        for (int cell = 0; cell < 300; ++cell)
+            for (int k = 0; k < 40; ++k)
+                points.push_back(at((cell % 10) + 0.01 + 0.98 * next(), (cell / 10 % 6), (cell / 60) + 0.01 + 0.98 * next(),
+                                    {std::uint8_t(cell), std::uint8_t(k), 7}));
+        test::write_file(dir.file("runs.las"), las_with_points(points, {0, 0, 0}, {10, 6, 5}, 16, 3, 0.001));
+        const AccumulateOptions options = exact_grid({0, 0, 0}, 1, {10, 6, 5});
+        const HostSums expected = host_sums(dir.file("runs.las"), *options.spec);
+        REQUIRE(expected.cells.size() == 300);
+        REQUIRE(expected.cells.begin()->second.position[1] == 0);
+        REQUIRE(expected.cells.begin()->second.position[2] > 0);
+        check_against_host(accumulate_file(dir.file("runs.las"), options), expected);
+    }
+    SUBCASE("a scene far from the origin (negative and large offsets), in slices of 7 and 4,096 records, bricks crossed") {
+        lasgen::SceneOptions scene;
+        scene.origin = {-431250.25, 6700200.5, -12.75};
+        scene.noise = 0.03;
+        lasgen::LasLayout layout;
+        layout.offset = {-431000, 6700000, -100};
+        layout.scale = {0.0005, 0.0005, 0.00025};
+        test::write_file(dir.file("far.las"), test::make_las(layout, lasgen::make_scene(scene), 30011, 17));
+        for (const char* grid : {"37", "200"}) {
+            CAPTURE(grid);
+            AccumulateOptions options = grid_of(grid);
+            const DensityGrid whole = accumulate_file(dir.file("far.las"), options);
+            const HostSums expected = host_sums(dir.file("far.las"), whole.spec);
+            check_against_host(whole, expected);
+            for (const std::uint64_t records : {7u, 4096u}) {
+                CAPTURE(records);
+                options.slice_bytes = records * lasgen::record_length(layout);
+                check_against_host(accumulate_file(dir.file("far.las"), options), expected);
+            }
+        }
     }
 }
