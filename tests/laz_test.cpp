@@ -310,6 +310,7 @@ TEST_CASE("LAZ without points, and LAZ whose chunks hold more points than the he
         test::Bytes patched = test::read_file(copc);
         REQUIRE(load_le<std::uint64_t>(patched.data() + 247) == 1065);
         store_le<std::uint64_t>(patched.data() + 247, 1000);
+        if (load_le<std::uint32_t>(patched.data() + 107) != 0) store_le<std::uint32_t>(patched.data() + 107, 1000); // kept equal
         test::write_file(dir.file("low.laz"), patched);
         LasReader full(copc), low(dir.file("low.laz"));
         const std::size_t length = full.header().point_record_length;

@@ -141,7 +141,7 @@ bool along_plane(const Planes& planes, std::uint32_t p, std::uint32_t q) {
     return across <= 0.5 * std::sqrt(dot(step, step));
 }
 
-// The space outside every surface, as a scanner above sees it: a coarse voxel grid (at most 128
+// The space outside every surface, as a scanner above sees it: a coarse voxel grid (at most 256
 // voxels an axis, a voxel 2^k cells, one voxel of margin all round) where voxels near surface
 // cells are walls, flooded from its top through the others (a breadth-first search, six
 // neighbours). The inside of a closed box or of a sphere is never reached, nor the space under a
@@ -153,7 +153,7 @@ struct Outside {
 
     explicit Outside(const Planes& planes) {
         const auto& dims = planes.grid.spec.dims;
-        while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift) > 128) ++shift;
+        while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift) > 256) ++shift;
         for (int a = 0; a < 3; ++a) size[a] = ((std::int64_t{dims[a]} + (1 << shift) - 1) >> shift) + 2;
         std::vector<char> wall(static_cast<std::size_t>(size[0] * size[1] * size[2]), 0);
         // A voxel holding a surface cell, and its six neighbours, are walls: gaps of a voxel close.
