@@ -104,4 +104,37 @@ check "no temporary file left behind" test -z "$(ls "$dir" | grep '\.tmp$')"
 "$lasmesh" "$dir/s.las" -o /dev/full/x.ply 2> /dev/null; rc=$?
 check "unwritable output exits 4" test "$rc" -eq 4
 
+# Flat and spread-out clouds: a 10 x 10 m plane of 20,000 points (flat, or with one point 1 cm
+# above it) meshes onto its points; two clusters 1,000 km apart are far too coarse for any grid,
+# and the run says so rather than blaming the pieces.
+python3 - "$dir" <<'EOF2'
+import random, struct, sys
+def write_las(path, points, scale=0.001):
+    lo = [min(p[a] for p in points) for a in range(3)]; hi = [max(p[a] for p in points) for a in range(3)]
+    head = bytearray(227); head[0:4] = b"LASF"; head[24] = 1; head[25] = 2
+    struct.pack_into("<HII", head, 94, 227, 227, 0); head[104] = 0
+    struct.pack_into("<HI", head, 105, 20, len(points))
+    struct.pack_into("<3d", head, 131, scale, scale, scale)
+    struct.pack_into("<6d", head, 179, hi[0], lo[0], hi[1], lo[1], hi[2], lo[2])
+    body = b"".join(struct.pack("<3iHBBbBH", *(round(c / scale) for c in p), 0, 0, 0, 0, 0, 0) for p in points)
+    open(path, "wb").write(bytes(head) + body)
+random.seed(1)
+plane = [(random.uniform(0, 10), random.uniform(0, 10), 0.0) for _ in range(20000)]
+write_las(sys.argv[1] + "/flat.las", plane)
+write_las(sys.argv[1] + "/flat-1cm.las", plane + [(5, 5, 0.01)])
+write_las(sys.argv[1] + "/clusters.las", [(random.uniform(0, 1), random.uniform(0, 1), 0.0) for _ in range(20000)] +
+          [(1e6 + random.uniform(0, 1), random.uniform(0, 1), 0.0) for _ in range(20000)])
+EOF2
+for f in flat flat-1cm; do
+  "$lasmesh" "$dir/$f.las" -o "$dir/$f.ply" 2> "$dir/$f.txt"; rc=$?
+  check "$f: meshed (got $rc: $(head -c 200 "$dir/$f.txt"))" test "$rc" -eq 0
+  within=$("$lasmesh" compare "$dir/$f.ply" "$dir/$f.las" --json 2> /dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["cloud_to_mesh"]["within_1_cell"])')
+  check "$f: every point within a cell of the mesh (got ${within:-none})" python3 -c "assert ${within:-0} > 0.999"
+done
+"$lasmesh" "$dir/clusters.las" -o "$dir/clusters.ply" 2> "$dir/clusters.txt"; rc=$?
+check "clusters far apart: no mesh, exit 2" test "$rc" -eq 2
+check "clusters far apart: the grid is named as the cause" has "$dir/clusters.txt" "is far too coarse for these points"
+"$lasmesh" "$dir/clusters.las" -o "$dir/clusters.ply" --min-piece 0 2> "$dir/clusters.txt"
+check "clusters far apart with every piece kept: a warning that the grid is far too coarse" has "$dir/clusters.txt" "warning: the grid (1024 x 2 x 1 cells of 977.5) is far too coarse"
+
 finish "cli mesh"
