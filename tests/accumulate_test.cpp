@@ -650,3 +650,20 @@ TEST_CASE("every cell's count, position and colour sums equal a plain host accum
         }
     }
 }
+
+TEST_CASE("--grid auto's second look: coarsened until the occupied cells' median count reaches 4, and no further") {
+    test::TempDir dir;
+    write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 20000, 4);
+    DensityGrid grid = accumulate_file(dir.file("s.las"), grid_of("512")); // far too fine: about a point a cell
+    REQUIRE(grid.median_count() < auto_grid_min_median);
+    // The same merges by hand: while the median is under 4.
+    DensityGrid by_hand = accumulate_file(dir.file("s.las"), grid_of("512"));
+    int merges = 0;
+    while (by_hand.median_count() < auto_grid_min_median) by_hand = coarsen_grid(by_hand), ++merges;
+    REQUIRE(merges >= 2);
+    const std::string said = coarsen_while_sparse(grid);
+    CHECK(grid.spec.dims == by_hand.spec.dims);
+    CHECK(grid.median_count() >= auto_grid_min_median);
+    CHECK(said.find(std::to_string(1 << merges) + " times coarser") != std::string::npos);
+    CHECK(coarsen_while_sparse(grid).empty()); // dense enough: left alone
+}

@@ -102,6 +102,22 @@ TEST_CASE("output files: two open at once in one thread keep their own bytes") {
     CHECK(std::string(reinterpret_cast<const char*>(read_b.data()), read_b.size()) == bytes_b);
 }
 
+TEST_CASE("output files: all or none, even when the second rename fails after the first") {
+    test::TempDir dir;
+    // The third output's final path is a folder with a file in it: its rename fails after the
+    // first two succeeded, and those must go again.
+    std::filesystem::create_directories(dir.path() / "c.ply" / "inside");
+    std::vector<std::unique_ptr<OutputFile>> files;
+    for (const char* name : {"a.ply", "b.ply", "c.ply"}) {
+        files.push_back(std::make_unique<OutputFile>(dir.file(name)));
+        files.back()->write(std::string("bytes of ") + name);
+    }
+    CHECK_THROWS_AS(commit_all(files), Error);
+    CHECK(!std::filesystem::exists(dir.file("a.ply")));
+    CHECK(!std::filesystem::exists(dir.file("b.ply")));
+    CHECK(std::filesystem::is_directory(dir.file("c.ply")));
+}
+
 TEST_CASE("same_file: by inode for existing files, by folder and name for new ones") {
     test::TempDir dir;
     test::write_file(dir.file("a.las"), sphere_las(10));

@@ -199,6 +199,9 @@ TEST_CASE("simplify: a deck's sheets at half a cell, flip-free and the same for 
     const Mesh m = simplify(1);
     MESSAGE("deck: " << original.triangles.size() << " to " << m.triangles.size() << " triangles");
     CHECK(m.triangles.size() * 4 <= original.triangles.size());
+    // The least-error collapse of each vertex and the waiting of vertices whose faces carry most
+    // of the bound keep it under 4,300 triangles (4,115 as built; about 14% more without them).
+    CHECK(m.triangles.size() <= 4300);
     const SimplifyCheck check = check_simplified(original, m);
     CHECK(check.flipped == 0);
     CHECK(check.unmatched_vertices == 0);

@@ -20,6 +20,10 @@ script -qfec "{ head -c 3000000 '$dir/d.las'; sleep 0.6; tail -c +3000001 '$dir/
   '$lasmesh' - -o '$dir/pipe.ply' --grid 128 --chunk-mb 1" /dev/null > "$dir/pipe.txt" 2>&1
 check "progress gives a rate and the time left" contains "$dir/pipe.txt" "points/s, 0:00:0[0-9] left"
 
+# A run that fails after the progress line was drawn: the line is erased before the error.
+script -qfec "'$lasmesh' '$dir/d.las' -o '$dir/none.ply' --grid 128 --min-piece 1e9" /dev/null > "$dir/fail.txt" 2>&1
+check "progress line erased before an error" has "$dir/fail.txt" "${erase}lasmesh: $dir/d.las: the mesh is empty"
+
 "$lasmesh" "$dir/d.las" -o "$dir/file.ply" --grid 128 2> "$dir/err.txt"
 check "no progress in redirected output" test "$(grep -c $'\e' "$dir/err.txt")" -eq 0
 check "summary still there" contains "$dir/err.txt" "^mesh "
