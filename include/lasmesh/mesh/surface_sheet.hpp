@@ -20,8 +20,9 @@ enum class SurfaceKind {
 //     the centroids of the surface cells around it (3 x 3 x 3);
 //  2. the normals are oriented consistently by growing a maximum spanning tree over neighbouring
 //     cells, weighted by how parallel their planes are, and linking only cells that lie along each
-//     other's plane (so the two faces of a wall thicker than a cell keep opposite normals); each
-//     connected piece is then turned to face mostly up;
+//     other's plane (so the two faces of a wall thicker than a cell keep opposite normals); the
+//     side each faces is the outside, as found by flooding a coarse voxel grid from above (the
+//     inside of a box, a pipe or a sphere is never reached), else outward or up;
 //  3. a signed distance is sampled at the cell corners next to surface cells: the distance to the
 //     plane of the nearest centroid among the corner's eight cells;
 //  4. marching cubes over the corner samples, rejecting crossings between planes that are not the
@@ -30,7 +31,8 @@ enum class SurfaceKind {
 // A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its
 // points instead of two sheets around it. The sheets are open where the surface ends; their
 // triangles face along the oriented normals; vertex normals are the planes' normals and vertex
-// colours the cells' mean colours, both interpolated along the edge.
+// colours the cells' mean colours, both interpolated along the edge. Each connected part of the
+// result is turned, if need be, to face the outside.
 Mesh extract_sheet(const DensityGrid& grid, double iso);
 // The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
 // geometry and index, its cells are empty afterwards): the grid's memory and the mesh's never
