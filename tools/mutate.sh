@@ -52,7 +52,12 @@ selectors() { python3 -c 'import re, sys; print("\n".join(re.split(r"\s+(?=(?:un
 # A copy of the tree (what git tracks or would track), built once without a unity build so that a
 # mutation recompiles one file.
 mkdir -p "$tree"
-git ls-files -z -co --exclude-standard | tar --null -T - -cf - | tar -xf - -C "$tree"
+# Only files whose content differs are copied, with a fresh time, so the build sees every change
+# (tar would restore the source's older times) and a run stopped mid-mutation heals itself.
+git ls-files -z -co --exclude-standard | while IFS= read -r -d '' f; do
+  [ -f "$f" ] || continue
+  cmp -s "$f" "$tree/$f" || { mkdir -p "$tree/$(dirname "$f")"; cp "$f" "$tree/$f"; }
+done
 mkdir -p "$build"
 for tool in gltf-validator laz-perf; do ln -sfn "$root/build/$tool" "$build/$tool"; done
 [ -d "$root/../shared" ] && export LASMESH_SHARED=${LASMESH_SHARED:-$root/../shared}
