@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Shared by the command-line test scripts (sourced after they set lasmesh=...): a temporary
 # folder removed at exit, named checks counted as they run, and a verdict at the end.
 dir=$(mktemp -d) && trap 'chmod -R u+w "$dir"; rm -rf "$dir"' EXIT # chmod: tests make read-only folders
@@ -7,6 +8,7 @@ passed=0 failed=0
 check() { if "${@:2}"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAILED: $1"; fi; }
 contains() { grep -q -- "$2" "$1"; } # FILE REGEX
 has() { grep -qF -- "$2" "$1"; }      # FILE TEXT (escape sequences, brackets)
+lacks() { ! grep -qF -- "$2" "$1"; }  # FILE TEXT: the text is not there
 
 # The scanned bounds of a LAS file as "minx,miny,minz maxx,maxy,maxz".
 bounds() { "$lasmesh" info --json --scan "$1" | python3 -c '

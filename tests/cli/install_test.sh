@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `cmake --install` gives the command, the man page, the headers and a CMake package that a
 # separate project finds with find_package(lasmesh) and links.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR LASGEN
@@ -13,6 +14,10 @@ check "the man page renders" bash -c "groff -man -Tutf8 -P-cbou -ww '$dir/prefix
 check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/mesh/marching_cubes.hpp"
 check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
 check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
+targets=$(ls "$dir"/prefix/lib/cmake/lasmesh/lasmeshTargets.cmake)
+check "the exported target carries C++20" grep -q 'INTERFACE_COMPILE_FEATURES "cxx_std_20"' "$targets"
+check "the exported link interface names no empty generator expression" lacks "$targets" 'LINK_ONLY:>'
+check "the licence is installed" test -s "$dir/prefix/share/doc/lasmesh/LICENSE"
 
 # The consumer is compiled like the library (the sanitizer build's flags, when testing that one).
 flags=$(sed -n 's/^CMAKE_CXX_FLAGS:[A-Z]*=//p' "$build/CMakeCache.txt")
