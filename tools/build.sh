@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs what lasmesh needs from Debian 12 (only what is missing), then configures and builds
 # it in build/. Idempotent: a second run with nothing changed takes seconds.
 # Used by tools/demo.sh and tools/test.sh; run it alone to just build.
@@ -12,7 +13,10 @@ packages=(
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libdraco-dev draco
-  # used by tests, demo and benchmarks: compressors for piped input, python3 to read JSON, bc
+)
+# What only the tests and benchmarks use.
+test_packages=(
+  # compressors for piped input, python3 to read JSON, bc
   gzip bzip2 xz-utils zstd python3 bc
   # the install test renders the man page
   groff-base
@@ -21,9 +25,18 @@ packages=(
   # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang-14 libclang-rt-14-dev
 )
-# npm (with Node.js) installs the Khronos glTF validator for the tests (tools/test.sh). Checked as
-# a command: a Node.js from elsewhere (NodeSource) brings its own npm, and Debian's would clash.
-command -v npm > /dev/null || packages+=(npm)
+# --demo: what the demo needs and only the targets named (lasmesh, lasgen), so a first run shows a
+# mesh after building two programs, not the test suite.
+demo=0 targets=()
+for arg in "$@"; do
+  case $arg in --demo) demo=1 ;; *) targets+=("$arg") ;; esac
+done
+if [ "$demo" -eq 0 ]; then
+  packages+=("${test_packages[@]}")
+  # npm (with Node.js) installs the Khronos glTF validator for the tests (tools/test.sh). Checked as
+  # a command: a Node.js from elsewhere (NodeSource) brings its own npm, and Debian's would clash.
+  command -v npm > /dev/null || packages+=(npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -44,4 +57,4 @@ build_type=${LASMESH_BUILD_TYPE:-Release}
 if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" -DCMAKE_UNITY_BUILD=ON >/dev/null
 fi
-cmake --build build --parallel "$(nproc)" -- --no-print-directory
+cmake --build build --parallel "$(nproc)" ${targets[@]:+--target "${targets[@]}"} -- --no-print-directory
