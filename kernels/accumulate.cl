@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sparse accumulation: every point counted into its grid cell, with the sums of its colour words
 // and of its position inside the cell, in bricks of B^3 cells allocated on first touch.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
 // simplify -> normals -> write each output, timed per stage and per output.
 #include "lasmesh/number_text.hpp"

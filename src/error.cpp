@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Error: a message plus the kind that selects the exit code.
 #include "lasmesh/error.hpp"
 

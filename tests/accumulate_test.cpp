@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Accumulation on the OpenCL device (PoCL in CI) against hand-worked cases and a plain reference
 // written here, for every slicing, colour depth and grid edge case.
 #include "lasmesh/grid/auto_grid.hpp"

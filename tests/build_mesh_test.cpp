@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // build_mesh as a library call, with no command line in front of it: its own checks on the
 // options (before anything is read), what it writes (every output or none, the report with
 // them), and its errors' kinds and the option each names.

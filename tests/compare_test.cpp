@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Distances for `lasmesh compare`: exact point-triangle distances on hand-computed cases, the
 // searches against brute force, the statistics, surface sampling, and the PLY reader.
 #include "lasmesh/measure/compare.hpp"

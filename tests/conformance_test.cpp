@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Conformance on real LAS files from public projects (../shared/data/las), against facts measured
 // by an independent reader (MANIFEST.tsv). Skipped with a message when the corpus is absent.
 #include "lasmesh/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Draco (.drc) and glTF (.glb) output: round trips through the Draco library within the
 // quantization step, exact colours, the local frame kept, deterministic bytes, refusals.
 #include "lasmesh/io/draco_reader.hpp"

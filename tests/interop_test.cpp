@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Outputs other programs open (issue 13): normals in every format, the plain .glb (names,
 // double-sided material, origin in extras, 16-bit indices), Draco's scalar origin entries.
 #include "lasmesh/io/draco_reader.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The streaming reader: every version x format the generator writes, chunking, compressed input,
 // and the errors for truncated, LAZ, foreign and empty input.
 #include "lasmesh/byte_order.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LAZ decoding: real files from public projects, facts measured by an independent decoder
 // (laz-perf) in a MANIFEST.tsv, SHA-256 of all records included: the small set in tests/data/laz,
 // always, and the larger corpus beside the checkout (../shared/data/laz, the "shared" test suite,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Marching cubes on synthetic fields: closed, consistently oriented, outward-facing meshes with
 // the right topology, identical for any thread count.
 #include "lasmesh/mesh/marching_cubes.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Removing small isolated pieces: a big sphere stays whole, a small far one goes, and what
 // stays is the same mesh as before, in the same order.
 #include "lasmesh/mesh/marching_cubes.hpp"

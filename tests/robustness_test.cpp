@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Issue 19, "nothing lost, nothing silent": the library-level checks behind the command line's
 // new refusals and warnings (tests/cli/errors_test.sh covers the command line itself).
 #include "lasmesh/error.hpp"

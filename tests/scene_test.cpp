@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scene generator: deterministic, inside its own header bounds, and shaped as documented.
 #include "lasgen/scene.hpp"
 #include "test_support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SHA-256 as FIPS 180-4 specifies it (sections 4.1.2, 5.1.1, 6.2).
 #include "sha256.hpp"
 

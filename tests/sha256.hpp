@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SHA-256 (FIPS 180-4) for the tests: the LAZ corpus lists the digest of all decoded records.
 #pragma once
 

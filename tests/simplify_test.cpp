@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Simplification to an error bound (issue 17): fewer triangles, the surface within a small
 // multiple of the bound of the original, no face turned over, no new non-manifold edge, no face
 // without area, winding and the colours of kept vertices unchanged, the same bytes for any number

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Test helpers: temp folders, file I/O and LAS fixtures from the project's own generator.
 #include "test_support.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Helpers shared by the tests: temporary folders, whole-file I/O, generated LAS bytes.
 #pragma once
 

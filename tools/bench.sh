@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The benchmark suite: generated deck scenes of 1M, 10M and 50M points, meshed at grids 128,
 # 256 and 512 into PLY, DRC and GLB in one run each, with the time per stage, peak memory,
 # output sizes, fidelity (lasmesh compare) and the ratio to `cat FILE > /dev/null` measured on

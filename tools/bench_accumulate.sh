@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Accumulation benchmark: `lasmesh grid` (read + accumulate on the OpenCL device) against
 # `cat FILE > /dev/null` on the same generated file in the page cache, best of 3 runs each.
 # Usage: tools/bench_accumulate.sh [POINTS] [GRID] [DEVICE]   (defaults: 31,000,000  256  auto)

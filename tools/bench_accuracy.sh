@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Accuracy below the cell: the one-sheet surface against the closed one, on the deck with and
 # without noise, measured both ways by `lasmesh compare` (every point), distances in cells.
 # Usage: bash tools/bench_accuracy.sh [POINTS] [GRIDS...]   (defaults: 5,000,000  256 1024 2048)

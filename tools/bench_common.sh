@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Shared by the benchmark scripts (sourced): best wall time in seconds of 3 runs of a command.
 best() {
   local best=999999

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Output benchmark: sizes and encode times of PLY (binary), Draco (.drc) and glTF (.glb) for the
 # generated deck at several grids, all three written by one `lasmesh` run. Times are the per-output
 # seconds of the summary, best of 3 runs.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Extraction and end-to-end benchmark: `lasmesh INPUT -o OUT.ply` on a generated deck scene with
 # 1 and 2 threads at grids 256 and 512, and the whole run against `cat FILE > /dev/null`.
 # Usage: tools/bench_extract.sh [POINTS]   (default 20,000,000)

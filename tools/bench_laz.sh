@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # LAZ decoding throughput on 1 and 2 threads (build/laz_bench: best of 3, each pass decodes the
 # file REPEAT times through LasReader). Files from the shared LAZ corpus:
 #   format 1: lone-star (518,862 points, 11 chunks of 50,000), pointwise compressor 2

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Reader benchmark: `lasmesh info --scan` against `cat FILE > /dev/null` on the same generated
 # file (about 1 GB, in the page cache), best of 3 runs each.
 # Usage: tools/bench_reader.sh [POINTS] [FILE]   (defaults: 31,000,000 points, out/bench-31M.las)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Simplification benchmark (issue 17) on today's default extraction (--surface sheet). For each
 # grid and --simplify bound: the triangles, the .drc size and the cloud-to-mesh error of the
 # pipeline's output (`lasmesh compare --json`: median, mean of the points within 2 cells, p95, in

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Sparse grid: memory and time from grid 256 to 4096 on a deck scan, to show they grow with the
 # scanned surface (about x4 a doubling), not the volume (x8). One run each, one Markdown table.
 # Usage: bash tools/bench_sparse.sh [POINTS] [GRIDS...]   (defaults: 50,000,000  256 512 1024 2048 4096)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Read + accumulate speed against `cat FILE > /dev/null`, on a deck scan in acquisition-like
 # order (consecutive points close together) and in random order, page cache warm, best of 3,
 # all in the same run: `lasmesh info --scan`, `lasmesh grid` (read + accumulate) and the whole

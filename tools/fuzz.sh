@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Fuzzes the LAS and LAZ reader (tools/fuzz/fuzz_las.cpp) with libFuzzer under AddressSanitizer and
 # UndefinedBehaviorSanitizer for SECONDS (default 60); exits non-zero on any crash, leaving the
 # input that caused it in build-fuzz/artifacts/. Needs build/lasgen (tools/build.sh) for the seeds.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LAZ decoding throughput: decodes FILE's records REPEAT times through LasReader with at most
 // THREADS TBB threads and prints points per second. Small corpus files are repeated to get a
 // measurable run; chunks are decoded in parallel within each pass.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // laz_facts.js: measures the facts of LAZ files that tests/data/laz/MANIFEST.tsv records, with an
 // independent decoder: laz-perf 0.0.7 (npm; Hobu's C++ port of the LASzip decoder, built to
 // WebAssembly). Header, LASzip-VLR and chunk-table-header facts are read here from the bytes

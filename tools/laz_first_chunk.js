@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // laz_first_chunk.js: writes a smaller, valid LAZ file that holds only the FIRST chunk of a
 // chunked LAZ file (LASzip compressor 2 or 3, fixed chunk size): the same header and VLRs, the
 // first chunk's compressed bytes copied unchanged, and a new chunk table of one entry.

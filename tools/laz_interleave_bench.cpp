@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Whether decoding two LAZ streams symbol by symbol, in turn, would speed a core up: times
 // ArithmeticDecoder::decode_symbol over two independent streams, one after the other and then
 // alternating. If a decoder were held back by the latency of its chain (each symbol waits for the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reference point for LAZ decoding speed: decodes FILE REPEAT times, record by record, with
 // laz-perf 0.0.7 (npm: Hobu's C++ port of the LASzip decoder, built to WebAssembly; the decoder
 // that measured ../shared/data/laz/MANIFEST.tsv) and prints points per CPU second, best of 3, in

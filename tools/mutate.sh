@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Mutation testing: does the test suite notice when central code is wrong? Each named mutation in
 # tools/mutations.tsv changes one line of src/ or kernels/ (a dropped term, an off-by-one, a
 # swapped sign), in a copy of the tree built on its own (build-mutate/); the tests named for it

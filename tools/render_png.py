@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Renders a binary PLY mesh (lasmesh's, or a `lasmesh compare --heatmap`) to a PNG picture:
 an orthographic view from above and the side (yaw, pitch in degrees), z-buffered, flat shaded
 with the vertex colours. Pure Python, no dependencies: for the pictures in docs/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // simplify_bench: simplifies a PLY mesh (as lasmesh writes it with --simplify 0) to an error
 // bound and reports what the simplification did (tools/bench_simplify.sh): triangles, seconds,
 // CPU seconds, faces turned over against the original surface, edges that became non-manifold,

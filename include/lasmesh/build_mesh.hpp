@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // lasmesh as one library call: a LAS point cloud in, a coloured triangle mesh with normals out.
 //
 //     lasmesh::BuildOptions options;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Little-endian loads and stores for LAS fields, which may sit at any (unaligned) offset.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Errors that reach the user: one exception type whose kind decides the process exit code.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An indexed triangle mesh with optional per-vertex colour and normals, positions in a local frame.
 #pragma once
 

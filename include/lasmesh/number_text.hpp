@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Numbers as the library's detail lines and the command line's summary print them, so both agree:
 // shortest round trip, two significant digits for timings and steps, megabytes with one decimal.
 #pragma once

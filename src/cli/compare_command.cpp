@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh compare`: reads the mesh, streams the cloud, prints the distance statistics.
 #include "compare_command.hpp"
 #include "option_parsing.hpp"

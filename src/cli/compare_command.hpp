@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh compare MESH INPUT`: how far the mesh is from the cloud, both ways.
 #pragma once
 

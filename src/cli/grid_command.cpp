@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh grid`: accumulate and report the grid (cells, occupancy, points outside, colour depth).
 #include "grid_command.hpp"
 

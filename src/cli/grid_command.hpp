@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh grid` and `lasmesh devices`: the accumulation stage on its own, and the devices it
 // can run on.
 #pragma once

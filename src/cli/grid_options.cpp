@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Grid and device options: one declaration, used by `lasmesh grid` and the meshing command.
 #include "grid_options.hpp"
 

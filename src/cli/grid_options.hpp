@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The grid and device options shared by every command that accumulates a grid, declared once.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh info`: text for people, one JSON object with --json.
 #include "info_command.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh info`: the header facts of a LAS input, optionally checked against a full scan.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PoCL caches every compiled kernel under ~/.cache/pocl/kcache, shared with every other OpenCL
 // program, and a write cut short (a full disk, `ulimit -f`) leaves empty files there that nobody
 // knows to remove. lasmesh's kernels go to a folder of its own instead, $XDG_CACHE_HOME/lasmesh/pocl

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where PoCL (the CPU OpenCL driver) caches compiled kernels (see kernel_cache.cpp).
 #pragma once
 

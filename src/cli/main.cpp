@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `lasmesh` command: parses options with CLI11, runs one library entry point per
 // subcommand, and maps errors to the documented exit codes. Nothing below main() exits, except
 // the signal thread (signals.cpp).

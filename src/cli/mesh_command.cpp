@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `lasmesh INPUT -o OUT.ply ...`: the option text turned into BuildOptions, one call to the
 // library, and the summary or the report printed. The pipeline itself is build_mesh.
 #include "mesh_command.hpp"

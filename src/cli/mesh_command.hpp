@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The main job: `lasmesh INPUT -o OUT.ply -o OUT.drc -o OUT.glb`: read, accumulate, extract once,
 // write each output, with a summary.
 #pragma once

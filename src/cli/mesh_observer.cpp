@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MeshObserver: every line it prints first erases the progress line, so the two never mix.
 #include "mesh_observer.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the meshing command shows while the library works: the progress line, the --verbose
 // details and the warning about points outside the grid, all on stderr.
 #pragma once

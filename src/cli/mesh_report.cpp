@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The summary and the --report JSON: same fields, same order, one for people, one for programs.
 #include "mesh_report.hpp"
 

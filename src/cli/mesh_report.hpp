@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the meshing command presents a run: the text summary for people (the --report JSON for
 // pipelines is the library's: run_report_json). It reads the library's RunReport.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Option text parsers: strict (the whole text must be used) and quoting the text in each error.
 #include "option_parsing.hpp"
 

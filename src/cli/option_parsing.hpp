@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Option text to typed values: the command line's spellings (--grid 256x512x256, --iso auto,
 // --min-piece 5%) live here and nowhere in the library, which takes the typed values only.
 // Each parser throws Error (usage) quoting the option and the text it could not use.

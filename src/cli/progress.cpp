@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Progress: redraws at most ten times a second; "\r" and an erase-line escape keep it on one line.
 #include "progress.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A progress line on a terminal: one line redrawn in place with the stage, the work done, the
 // rate and, when the total is known, an estimate of the time left. Silent when disabled (stderr
 // is not a terminal, or --quiet), so logs and pipes never see it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Termination signals: remove the unfinished outputs' temporary files, then exit 128 + signal.
 //
 // Why a thread with sigwait() rather than a signal handler: the cleanup walks a list of paths

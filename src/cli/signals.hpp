@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the command does on SIGINT, SIGTERM, SIGHUP, SIGPIPE and SIGXFSZ (see signals.cpp).
 #pragma once
 

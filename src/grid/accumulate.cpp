@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // accumulate_density: streams raw records to the device in double-buffered slices and runs
 // kernels/accumulate.cl over each; the host reads records straight into the device's slice
 // buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // choose_grid: points per unit of surface area, then the cell edge h that puts
 // auto_grid_points_per_cell points into a surface cell: N h^2 / A = k, h = sqrt(k A / N).
 #include "lasmesh/grid/auto_grid.hpp"

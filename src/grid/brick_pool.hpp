@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: how the device's pool of bricks is laid out over several buffers ("chunks"), the
 // host's side of brick_words() in kernels/accumulate.cl. Chunk c holds
 // 2^first_bits << min(c, doublings) bricks: the chunks double until they reach the device's

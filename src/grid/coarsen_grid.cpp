@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // coarsen_grid and coarsen_while_sparse: --grid auto's second look, at the accumulated counts.
 // Merging 2 x 2 x 2 cells keeps every sum exact (counts and colours add; position sums move to
 // the larger cell's start), so a coarsened grid is the grid that accumulating at twice the cell

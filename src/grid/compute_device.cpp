@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Device discovery and selection through the OpenCL ICD loader, and kernel builds with logs.
 #include "opencl_device.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DensityGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks for.
 #include "lasmesh/grid/density_grid.hpp"
 

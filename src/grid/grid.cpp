@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Grid geometry: from bounds and a request to cubic cells, and from cells to raw-integer ranges.
 #include "lasmesh/grid/grid.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: zeroed host memory in 2 MiB pages where the kernel allows it (Linux transparent huge
 // pages, madvise). For a CPU OpenCL device the pool of bricks lives in host memory anyway; in
 // large pages, random adds to a pool of a gigabyte miss the TLB far less, and the memory costs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The memory guard of accumulate_density (see memory_guard.hpp), and memory_need.
 #include "memory_guard.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: the memory guard of accumulate_density. What the grid needs is checked before
 // reading (the brick index, the slices, the pool's first chunk) and each time the pool of bricks
 // grows, against the device's memory and largest allocation and --max-memory; a refusal says

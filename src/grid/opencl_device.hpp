@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: the OpenCL C++ bindings, configured once, and the objects behind ComputeDevice.
 #pragma once
 

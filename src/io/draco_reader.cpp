@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Draco decoding through Draco's decoder: a .drc file, or the stream of a .glb's Draco
 // primitive (gltf_reader.cpp).
 #include "lasmesh/io/draco_reader.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Draco encoding: the Mesh copied into a draco::Mesh (one point per vertex, so connectivity is
 // kept as it is), then compressed by draco::Encoder.
 #include "lasmesh/io/draco_writer.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading a .glb: the container (12-byte header, JSON chunk, BIN chunk) parsed here, the JSON with
 // nlohmann-json, the first mesh's first primitive read plain or through Draco's decoder.
 #include "lasmesh/io/gltf_reader.hpp"

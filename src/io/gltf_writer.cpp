@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The GLB container: a JSON chunk (padded with spaces) and a BIN chunk (padded with zeros). Plain
 // files hold the vertex arrays and the indices in the BIN chunk, one buffer view each; Draco
 // files hold only the Draco stream there, and their accessors have no buffer view. Draco's own

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // JSON helpers: the dump settings and the two text conversions in one place.
 #include "io/json.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // JSON for machine-readable output (the run report, the command line's --json), through
 // nlohmann-json. Internal: the library's public headers do not depend on a JSON library.
 #pragma once

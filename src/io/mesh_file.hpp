@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the mesh readers share: a whole file in memory, and a Draco stream decoded with its
 // attributes chosen by unique id (as a .glb's KHR_draco_mesh_compression names them).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PLY writer, streamed in blocks from the mesh arrays.
 #include "lasmesh/io/ply_writer.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The run report as JSON: the fields of RunReport in the order of the text summary, full precision.
 #include "lasmesh/build_mesh.hpp"
 

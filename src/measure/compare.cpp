@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // compare: stream the cloud, keep an even subset, then measure both ways in parallel. Each
 // distance lands in its own slot, so the statistics do not depend on the thread count.
 #include "lasmesh/measure/compare.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Nearest-neighbour search by branch and bound over a bounding volume hierarchy.
 #include "lasmesh/measure/mesh_distance.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The closed surface of the density grid: marching cubes over the count samples at the cell
 // centres, visiting only the bricks near occupied cells (sparse_marching_cubes.hpp).
 #include "lasmesh/mesh/marching_cubes.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Connected pieces by union-find over vertices, then one pass to keep or drop each triangle.
 #include "lasmesh/mesh/mesh_pieces.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Simplification to an error bound by half-edge collapses (a vertex moves onto a neighbour, so
 // kept vertices keep their position, colour and normal), ordered by the quadric error metric of
 // Garland & Heckbert 1997, "Surface simplification using quadric error metrics" (SIGGRAPH 97):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // check_simplified: what a simplification did to the surface (tests, tools/simplify_bench).
 #include "lasmesh/mesh/simplify.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: marching cubes over the bricks of a lattice that hold surface, for any sampled field.
 //
 // Passes in the spirit of flying edges (Schroeder et al. 2015), over bricks instead of layers:

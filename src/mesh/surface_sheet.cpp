@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // extract_sheet: tangent planes from the cells' moments, oriented by a spanning tree, sampled as a
 // signed distance at the cell corners and contoured by sparse marching cubes.
 #include "lasmesh/mesh/surface_sheet.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Range decoder and adaptive models (see the header for the sources).
 #include "read/arithmetic_decoder.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The adaptive range decoder LASzip entropy-codes with (Isenburg 2013, "LASzip: lossless
 // compression of LiDAR data", section 3; the coder is A. Said's FastAC, "Introduction to
 // arithmetic coding", 2003), with its adaptive bit and symbol models and the integer

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Parsing and validation of the LAS public header block and VLRs (LAS 1.4 R15, section 2).
 #include "lasmesh/number_text.hpp"
 #include "lasmesh/read/las_header.hpp"

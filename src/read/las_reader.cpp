@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LasReader: whole records straight from the stream into the caller's buffer.
 #include "lasmesh/read/las_reader.hpp"
 

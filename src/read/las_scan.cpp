@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // scan_points: min/max over raw integers (cheap), converted to world units once at the end; the
 // cores scan one chunk while the next is read.
 #include "lasmesh/read/las_scan.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Chunk table decoding (see the header).
 #include "read/laz_chunks.hpp"
 

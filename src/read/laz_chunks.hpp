@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The LAZ chunk table (LASzip format description, "chunk table"): written after the last
 // chunk, pointed at by the 64-bit offset that precedes the first chunk. It lists each chunk's
 // compressed size (and, for variable-size chunks, its point count), coded with the integer

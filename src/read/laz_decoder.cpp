@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LazDecoder: chunk table, batches of chunks decoded in parallel, sequential fallbacks.
 #include "read/laz_decoder.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LazDecoder: the point records of a LAZ file, decoded chunk by chunk behind LasReader.
 // From a file the chunk table is read first (a second handle seeks to it) and batches of
 // chunks are decoded in parallel with TBB; the chunks themselves are still read in order from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: what the pointwise GPSTIME11 (v2) and the layered POINT14 (v3/v4) decoders share for
 // GPS times. A time's difference from the last is predicted as a multiple of the last difference;
 // the decoded multiplier says which (0..500 times, 501..510 for -1..-10 times), and picks the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Pointwise items v2 (and WAVEPACKET13 v1): see the header.
 #include "read/laz_items_v2.hpp"
 

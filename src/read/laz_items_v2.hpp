@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The pointwise items, versions 2 (POINT10, GPSTIME11, RGB12, BYTE) and 1 (WAVEPACKET13), as
 // LASzip 2.0 and later write them (Isenburg 2013, section 3.3; LASzip item descriptions).
 // Each item keeps the last record it produced and predicts the next one from it.

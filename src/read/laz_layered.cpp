@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Layered chunks (compressor 3): POINT14, RGB14, RGBNIR14, BYTE14 and WAVEPACKET14, versions
 // 3 and 4 (LASzip 3.x; the LAS 1.4 R15 point formats 6-10). Each item keeps up to four
 // contexts, one per scanner channel, and switches with the point's channel.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding one chunk of a layered LAZ file (LASzip compressor 3, point formats 6-10; item
 // versions 3 and 4): raw first record, u32 point count, the byte size of every layer, then the
 // layers. Each field group is its own arithmetic stream ("layer"), so fields a reader does not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One pointwise chunk: raw first record, then all items of each record from one stream.
 #include "read/laz_pointwise.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding one chunk of a pointwise-compressed LAZ file (LASzip compressors 1 and 2, point
 // formats 0-5): the chunk's first record is stored raw, then every following record is coded
 // item by item (POINT10, GPSTIME11, RGB12, WAVEPACKET13, BYTE) in one arithmetic stream.

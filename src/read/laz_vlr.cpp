@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Parsing of the LASzip VLR (layout: laszip.org "LAZ specification"; Isenburg 2013, section 4).
 #include "read/laz_vlr.hpp"
 

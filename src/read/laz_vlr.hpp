@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The LASzip VLR (user id "laszip encoded", record 22204): which compressor wrote the points,
 // the chunk size, and the list of items (field groups) that make up a point record.
 // Layout from the LASzip format description (laszip.org; Isenburg 2013, section 4).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `lasmesh compare` end to end, and the fidelity the mesher promises on the deck scene: at
 # --grid 256 the mesh stays on average within about half a cell of the points, both ways,
 # covers what they cover, and leaves the floating outlier clusters out.

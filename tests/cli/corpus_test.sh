@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Real scans mesh with default options (--grid auto). Every file of the shared corpus
 # (../shared/data/las, or $LASMESH_SHARED/data/las) that `lasmesh info --scan` reads and that holds
 # at least auto_grid_min_points (100) points gives a non-empty mesh, and most of its points lie

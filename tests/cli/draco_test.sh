@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # End to end: `lasmesh INPUT -o a.ply -o a.drc -o a.glb` in one run. The .drc is decoded by Draco's
 # own draco_decoder and checked by the independent PLY reader; the .glb is checked by glb_check.py
 # and by the Khronos glTF validator (npm package gltf-validator, installed by tools/test.sh).

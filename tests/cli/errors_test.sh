@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Every bad input and environment of issue 7, one row each: the exit code, a phrase of the one-line
 # message (the input's name, the byte offset or record where known, what to do), and no file under
 # the final output name afterwards. Bad files are a generated LAS with bytes patched.

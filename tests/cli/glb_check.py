@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Checks a .glb as lasmesh writes it, independently of lasmesh's own reader: the GLB container
 (header, 4-byte aligned JSON and BIN chunks), the glTF 2.0 members a Draco-compressed mesh needs
 (KHR_draco_mesh_compression used and required, accessors without bufferView, POSITION bounds,

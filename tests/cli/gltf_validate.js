@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Validates glTF binary files with the Khronos glTF validator (npm package gltf-validator).
 // Prints every message; exits 1 when a file has an error, 2 when the validator cannot be loaded.
 // Usage: node gltf_validate.js VALIDATOR_FOLDER FILE.glb...   (the folder npm installed it into)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `lasmesh grid` and `lasmesh devices` as users run them. Usage: grid_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Runs COMMAND... when the shared corpus beside the checkout (SOURCE_DIR/../shared, or
 # $LASMESH_SHARED) is there; otherwise exits 77, which CTest reports as Skipped, not Passed.
 # Usage: if_shared.sh SOURCE_DIR COMMAND...

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `lasmesh info` as users run it: file, stdin and compressed pipes agree; errors exit non-zero
 # with a message naming the input. Usage: info_test.sh LASMESH LASGEN
 set -u

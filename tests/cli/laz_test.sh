@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # LAZ as users run it, on the small real files in tests/data/laz: a file, standard input and a
 # gzip stream decode alike and mesh to the same bytes; LAZ that cannot be decoded is refused with
 # exit code 2 and a message naming the file. (The larger corpus: corpus_test.sh.)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # End to end: `lasmesh INPUT -o OUT.ply` on generated scenes, checked by an independent PLY
 # reader; the same bytes from a file, stdin and gzip, and for any thread count.
 # Usage: mesh_test.sh LASMESH LASGEN

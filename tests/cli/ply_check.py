@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """An independent minimal PLY reader for the tests: parses the header and body of a binary or
 ASCII PLY as lasmesh writes it and checks it against expectations given as arguments.
 Usage: ply_check.py FILE.ply CLOUD_MIN_X,Y,Z CLOUD_MAX_X,Y,Z CELL [R,G,B]"""

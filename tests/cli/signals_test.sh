@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Faults during a run: kill -9 at random moments never leaves an incomplete file under a final
 # name; SIGINT and SIGTERM remove the temporary files and exit 130 and 143.
 # Usage: signals_test.sh LASMESH LASGEN [ITERATIONS]

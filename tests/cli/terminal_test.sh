@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The terminal behaviour for real: under a pseudo-terminal (script(1)) a progress line is drawn
 # in place; redirected to a file, never; --quiet silences everything but errors; --report
 # writes the summary as JSON; --verbose adds stage details.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The outputs open in the programs users open them with, headless, each required (tools/test.sh
 # installs them): the Khronos validator, assimp (assimp-utils; Open3D and many viewers
 # read glTF through it), Open3D (python3-open3d). Then all-or-nothing outputs and the empty-mesh

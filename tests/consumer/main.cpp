@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Meshes a LAS file through the installed library's one entry point, build_mesh, and checks
 // the result: the headers, the reader (Boost.Iostreams inside), the OpenCL accumulation, the
 // extractor (TBB) and the PLY writer all link from the package alone.

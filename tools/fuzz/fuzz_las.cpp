@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target over everything that reads untrusted bytes before the device sees them:
 // compressed-input detection and decoding (InputStream), the header and VLR parser
 // (read_las_header), the LAZ decoder behind LasReader, and the record reader (scan_points).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LAS writing from the specification's field tables (LAS 1.4 R15, sections 2.2-2.6).
 #include "las_writer.hpp"
 

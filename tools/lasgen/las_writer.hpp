@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writing LAS 1.0-1.4 files of point formats 0-10, for generated scenes and test fixtures.
 #pragma once
 

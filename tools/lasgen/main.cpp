@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // lasgen: writes a synthetic LAS scene of any size to a file or standard output, streamed in
 // batches (memory does not grow with the point count) and deterministic for a seed.
 #include "las_writer.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Scene construction and per-point sampling. The deck imitates the study's support-vessel scan:
 // a tilted deck, thin double-faced walls, railings, pipes and containers, with noise, holes,
 // floating outlier clusters and a density that varies several-fold along the deck.

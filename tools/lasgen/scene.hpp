@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Synthetic scenes made of simple primitives, sampled one point at a time. Every point depends
 // only on (seed, index), so any block size or thread count gives the same file.
 #pragma once

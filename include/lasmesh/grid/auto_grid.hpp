@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `--grid auto`: a cell size from the data's density, so that the cells on a scanned surface hold
 // enough points for the surface to close. Too fine a grid leaves holes (cells with no points
 // between the points); too coarse a one blurs detail. Estimated from the header alone (count and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The OpenCL device that accumulates the grid: listed, chosen, and opened once per run.
 // PoCL on the CPU works everywhere; a GPU is preferred when one is present.
 #pragma once

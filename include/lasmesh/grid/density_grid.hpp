@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Accumulation: every point of a LAS stream counted into a grid cell on the OpenCL device, with
 // the sums of its colour words and of its position inside the cell, in slices that fit the
 // device's largest allocation. The grid is sparse: only bricks of B^3 cells that received a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The grid the points are counted into: cubic cells over the cloud's bounds, and the exact rule
 // that assigns a point to a cell, decided once in raw LAS integers so every device agrees.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading back the .drc files lasmesh writes (and other Draco meshes), into a Mesh in the file's
 // local frame: for the tests and for `lasmesh compare`. The .glb reader is in gltf_reader.hpp.
 #pragma once

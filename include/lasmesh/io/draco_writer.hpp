@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Draco output (.drc): the mesh compressed by Google's Draco library, positions quantized, colours
 // exact, the local frame kept as geometry metadata so the file reads back in its own coordinates.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading back the .glb files lasmesh writes, plain or Draco-compressed, into a Mesh in the file's
 // local frame: for the tests and for `lasmesh compare`.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // glTF 2.0 binary output (.glb): one scene, one node, one mesh with one primitive, one material,
 // all named after the input. Plain by default (every glTF reader opens it: Blender without a
 // Draco library, assimp and so Open3D, gltfpack); Draco-compressed on request, for three.js and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An output written under a temporary name beside its final path and renamed into place only
 // when complete, so a failed or interrupted run never leaves a partial file under the final name.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading triangle meshes from PLY: ours, and any other writer's (ASCII or binary of either byte
 // order, any numeric property types, polygons split into triangle fans).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // PLY output: binary little-endian (default) or ASCII; vertex x, y, z (float, relative to the
 // mesh origin), float nx, ny, nz when the mesh has normals, and uchar red, green, blue when it has
 // colour; faces as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Refusing a run whose outputs would overwrite its input or each other: a user who types
 // `lasmesh in.ply -o in.ply` or `-o out.ply --report out.ply` loses data without a word otherwise.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // sRGB <-> linear colour. LAS colours are sRGB-encoded, glTF vertex colours (COLOR_0) are linear:
 // the .glb stores linear values as 16-bit words, fine enough that every 8-bit sRGB value comes
 // back exactly.

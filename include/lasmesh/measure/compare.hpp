@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fidelity of a mesh to the cloud it came from, measured both ways as in the study's section 5:
 // cloud to mesh (is every point near the surface?) and mesh to cloud (is the surface near the
 // points, or does it invent shapes?).

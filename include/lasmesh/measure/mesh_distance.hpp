@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Distances between a mesh and points: exact point-triangle distance, and nearest-neighbour
 // searches through a bounding volume hierarchy. Coordinates are in the mesh's local frame.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Extraction: the iso-surface of the density grid by marching cubes, in parallel with oneTBB
 // and with the same output for any number of threads.
 #pragma once

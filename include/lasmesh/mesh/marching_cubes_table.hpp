@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The 256 marching-cubes cases, derived at first use from one rule rather than typed in:
 // on every cube face the surface crosses the edges whose corners disagree, and on an ambiguous
 // face (inside corners diagonal) the inside corners are kept apart. Both cubes that share a face

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cleaning: removing the small isolated pieces of a mesh. Floating outlier clusters in a scan
 // (spray, birds, stereo mismatches) are dense enough to pass any iso value, so they are told
 // apart by what they are: small and disconnected from everything else.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-vertex normals from the triangles, for extractions that do not give their own.
 #pragma once
 

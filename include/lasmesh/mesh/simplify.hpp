@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mesh simplification to an error bound: edges collapse while the surface moves less than the
 // bound (our own quadric edge-collapse simplifier after Garland & Heckbert 1997, see
 // src/mesh/simplify.cpp), so flat areas lose most of their triangles and detail stays.

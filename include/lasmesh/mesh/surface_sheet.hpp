@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Extraction of one sheet per scanned surface, placed where the points are, from the grid's
 // per-cell point moments (no point is kept after accumulation).
 #pragma once

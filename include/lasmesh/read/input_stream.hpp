@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A forward-only byte stream over a file or standard input, decompressed on the fly when its
 // first bytes carry a gzip, bzip2, xz or zstd signature. It never seeks, so pipes work as well as
 // files; plain input is read with large read(2) calls straight into the caller's buffer.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The public header block of an ASPRS LAS 1.0-1.4 file (R15), its VLR list, and the facts of
 // point data record formats 0-10. Written from the specification.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding of raw point records: position through scale and offset, colour where the format
 // has it. Inline, because it runs once per point.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A streaming LAS reader: header and VLRs first, then the point records in caller-sized chunks of
 // raw bytes, in one forward pass with no seeks (files, pipes and compressed streams alike).
 // LAZ (LASzip-compressed LAS) is decoded on the way: the header then describes the

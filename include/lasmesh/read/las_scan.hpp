@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One pass over every record: the facts `lasmesh info --scan` reports, computed from the records
 // themselves rather than taken from the header.
 #pragma once
