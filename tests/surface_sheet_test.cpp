@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <utility>
 
 using namespace lasmesh;
@@ -251,4 +252,39 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
         CHECK(wrong_roofs <= roofs / 100);
         CHECK(wrong_deck == 0);
     }
+}
+
+TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do not point away from its centre") {
+    // Normals away from the centroid agree with only a quarter of a torus's area-weighted surface
+    // (R = 2, r = 0.6), and it has no up: only the enclosed space inside the tube tells its sides.
+    const double big = 2, small = 0.6;
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 5;
+    auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
+    while (points.size() < 150000) {
+        const double u = 2 * std::numbers::pi * next(), t = 2 * std::numbers::pi * next();
+        if (next() * (big + small) > big + small * std::cos(t)) continue; // uniform by area
+        const double rho = big + small * std::cos(t);
+        points.push_back(point(4 + rho * std::cos(u), 4 + rho * std::sin(u), 1 + small * std::sin(t)));
+    }
+    test::TempDir dir;
+    test::write_file(dir.file("torus.las"), test::las_with_points(points, {1.4, 1.4, 0.4}, {6.6, 6.6, 1.6}, 8, 3, 0.001));
+    AccumulateOptions grid;
+    grid.grid.dims = {96, 0, 0};
+    const DensityGrid g = test::accumulate_file(dir.file("torus.las"), grid);
+    const Mesh sheet = extract_sheet(g, automatic_iso(g));
+    REQUIRE(sheet.normals.size() == sheet.positions.size());
+    REQUIRE(sheet.positions.size() > 1000);
+    std::size_t inward = 0;
+    for (std::size_t v = 0; v < sheet.positions.size(); ++v) {
+        const double x = sheet.origin[0] + sheet.positions[v][0] - 4, y = sheet.origin[1] + sheet.positions[v][1] - 4,
+                     z = sheet.origin[2] + sheet.positions[v][2] - 1;
+        const double rho = std::hypot(x, y);
+        // From the nearest point of the tube's core circle to the vertex: outward.
+        const double away[3] = {x - big * x / rho, y - big * y / rho, z};
+        const auto& n = sheet.normals[v];
+        inward += away[0] * n[0] + away[1] * n[1] + away[2] * n[2] <= 0;
+    }
+    CAPTURE(sheet.positions.size());
+    CHECK(inward == 0);
 }
