@@ -246,12 +246,6 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     if (header.point_count == 0)
         throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
     if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
-    if (o.auto_grid) {
-        const Bounds box = accumulate.bounds ? *accumulate.bounds : Bounds{header.min, header.max};
-        const GridChoice choice = choose_grid(header.point_count, box, reader.stream().name());
-        accumulate.grid = choice.request;
-        r.grid_reason = "auto: " + choice.reason;
-    }
     ComputeDevice device(o.device);
     r.input = reader.stream().name();
     r.device = device.info().name;
@@ -266,10 +260,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     };
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
     DensityGrid grid = accumulate_density(reader, device, accumulate);
-    if (o.auto_grid) {
-        // The header only guessed the surface's area; the counts tell.
-        if (const std::string coarsened = coarsen_while_sparse(grid); !coarsened.empty()) r.grid_reason += "; " + coarsened;
-    }
+    r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
     const std::uint64_t fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty

@@ -50,7 +50,7 @@ struct Fixture {
     }
     BuildOptions options(const std::vector<std::string>& outputs) const {
         BuildOptions o;
-        o.grid.dims = {64, 0, 0};
+        o.grid = GridRequest::longest(64);
         for (const std::string& name : outputs) o.outputs.push_back(request(dir.file(name)));
         return o;
     }

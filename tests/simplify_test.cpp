@@ -76,7 +76,7 @@ const Mesh& deck_sheet() {
         options.origin = {0, 0, 0};
         test::write_file(dir.file("d.las"), test::make_las(lasgen::LasLayout{}, lasgen::make_scene(options), 200000, 11));
         AccumulateOptions grid;
-        grid.grid.dims = {128, 0, 0};
+        grid.grid = GridRequest::longest(128);
         const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
         Mesh m = extract_sheet(g, automatic_iso(g));
         remove_small_pieces(m, {});

@@ -64,7 +64,7 @@ TEST_CASE("a sphere's scan gives one closed, oriented sheet on the points, half 
     const lasgen::Scene sphere = lasgen::make_scene(options); // 10 m diameter, points on the surface
     test::write_file(dir.file("s.las"), test::make_las(lasgen::LasLayout{}, sphere, 300000, 7));
     AccumulateOptions grid;
-    grid.grid.dims = {48, 0, 0};
+    grid.grid = GridRequest::longest(48);
     const DensityGrid g = test::accumulate_file(dir.file("s.las"), grid);
     const double iso = automatic_iso(g);
     const Mesh sheet = extract_sheet(g, iso);
@@ -137,7 +137,7 @@ TEST_CASE("a thin plate scanned from both sides is one sheet between its faces")
         }
     test::write_file(dir.file("plate.las"), test::las_with_points(points, {0, 0, 0}, {10, 10, 1}));
     AccumulateOptions grid;
-    grid.grid.dims = {20, 0, 0};
+    grid.grid = GridRequest::longest(20);
     const DensityGrid g = test::accumulate_file(dir.file("plate.las"), grid);
     const Mesh sheet = extract_sheet(g, automatic_iso(g));
     REQUIRE(!sheet.triangles.empty());
@@ -166,7 +166,7 @@ TEST_CASE("the sheet is the same for any number of threads") {
     const lasgen::Scene deck = lasgen::make_scene(options);
     test::write_file(dir.file("d.las"), test::make_las(lasgen::LasLayout{}, deck, 200000, 11));
     AccumulateOptions grid;
-    grid.grid.dims = {128, 0, 0};
+    grid.grid = GridRequest::longest(128);
     const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
     auto extract = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -224,7 +224,7 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
     for (const char* cells : grids) {
         CAPTURE(cells);
         AccumulateOptions grid;
-        grid.grid.dims = {static_cast<std::uint32_t>(std::stoi(cells)), 0, 0};
+        grid.grid = GridRequest::longest(static_cast<std::uint32_t>(std::stoi(cells)));
         const DensityGrid g = test::accumulate_file(dir.file("boxes.las"), grid);
         const Mesh sheet = extract_sheet(g, automatic_iso(g));
         REQUIRE(sheet.normals.size() == sheet.positions.size());
@@ -270,7 +270,7 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
     test::TempDir dir;
     test::write_file(dir.file("torus.las"), test::las_with_points(points, {1.4, 1.4, 0.4}, {6.6, 6.6, 1.6}, 8, 3, 0.001));
     AccumulateOptions grid;
-    grid.grid.dims = {96, 0, 0};
+    grid.grid = GridRequest::longest(96);
     const DensityGrid g = test::accumulate_file(dir.file("torus.las"), grid);
     const Mesh sheet = extract_sheet(g, automatic_iso(g));
     REQUIRE(sheet.normals.size() == sheet.positions.size());

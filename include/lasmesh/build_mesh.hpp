@@ -1,10 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 // lasmesh as one library call: a LAS point cloud in, a coloured triangle mesh with normals out.
 //
-//     lasmesh::BuildOptions options;
-//     options.grid.dims = {512, 0, 0};                        // 512 cells along the longest axis
-//     options.outputs.push_back({"deck.glb", lasmesh::MeshFormat::glb});
-//     lasmesh::BuildResult result = lasmesh::build_mesh("deck.las", options);
+//     lasmesh::BuildOptions options;                  // the command line's defaults: grid from the data, ...
+//     options.outputs.push_back({"deck.glb"});        // the format from the extension
+//     try {
+//         lasmesh::BuildResult result = lasmesh::build_mesh("deck.las", options);
+//         std::cout << result.report.triangles << " triangles\n";
+//     } catch (const lasmesh::Error& e) {              // bad input, options, device or output
+//         std::cerr << e.what() << "\n";
+//     }
+//
+// BuildOptions{} meshes exactly as `lasmesh deck.las -o deck.glb` does, byte for byte; set a
+// field to do what its flag does (options.grid = lasmesh::GridRequest::longest(512) is --grid 512).
 //
 // The stages, in order, each in its own folder of src/ and include/lasmesh/:
 //   read     the input stream (file, pipe, gzip/bzip2/xz/zstd), the LAS header, the records
@@ -20,6 +27,7 @@
 // progress and details go to the BuildObserver, numbers to the RunReport.
 #pragma once
 
+#include "lasmesh/error.hpp"
 #include "lasmesh/grid/grid.hpp"
 #include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
@@ -65,8 +73,7 @@ struct SimplifyRequest {
 };
 
 struct BuildOptions {
-    GridRequest grid;                  // cells along the longest axis, per axis, or a cell edge
-    bool auto_grid = false;            // instead of `grid`: choose_grid from the header (grid/auto_grid.hpp)
+    GridRequest grid;                  // default: chosen from the data; or GridRequest::longest(N), cells(...), cell_edge(E)
     std::optional<Bounds> bounds;      // the region to grid; default: the header bounds
     bool scan_bounds = false;          // read a file twice, first for its points' real bounds
     std::optional<double> iso;         // points per cell at the surface; default: automatic_iso
@@ -96,7 +103,7 @@ struct RunReport {
     std::uint64_t points_read = 0, points_outside = 0;
     std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
-    std::string grid_reason;           // why this grid, when auto_grid chose it; empty otherwise
+    std::string grid_reason;           // why this grid, when it was chosen from the data; empty otherwise
     double iso = 0;
     bool iso_auto = false;
     SurfaceKind surface = SurfaceKind::sheet;

@@ -3,7 +3,6 @@
 #include "grid_command.hpp"
 
 #include "io/json.hpp"
-#include "lasmesh/grid/auto_grid.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -22,18 +21,9 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     if (options.grid.scan_bounds) accumulate.bounds = scan_bounds(options.input);
     LasReader reader(options.input);
     if (!accumulate.bounds) check_header_bounds_usable(reader.header(), reader.stream().name());
-    std::string grid_reason;
-    if (grid_is_auto(options.grid)) {
-        const LasHeader& h = reader.header();
-        const GridChoice choice = choose_grid(h.point_count, accumulate.bounds.value_or(Bounds{h.min, h.max}), reader.stream().name());
-        accumulate.grid = choice.request;
-        grid_reason = "auto: " + choice.reason;
-    }
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();
     DensityGrid grid = accumulate_density(reader, device, accumulate);
-    if (grid_is_auto(options.grid))
-        if (const std::string coarsened = coarsen_while_sparse(grid); !coarsened.empty()) grid_reason += "; " + coarsened;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     const std::uint64_t occupied = grid.occupied_cells(), fullest = grid.fullest_cell();
@@ -61,7 +51,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     }
     out << "device               " << device.info().name << " (" << device.info().type << ")\n"
         << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
-        << " cells of " << format_double(grid.spec.cell_size) << (grid_reason.empty() ? "" : " (" + grid_reason + ")")
+        << " cells of " << format_double(grid.spec.cell_size) << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")")
         << "\n"
         << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
         << " " << format_double(grid.spec.origin[2]) << "\n"

@@ -30,17 +30,21 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         ->check(positive_number());
 }
 
+namespace {
+
+bool grid_is_auto(const GridOptions& o) { return !o.voxel && o.grid == "auto"; } // --grid auto, no --voxel
+
+} // namespace
+
 AccumulateOptions accumulate_options(const GridOptions& o) {
     AccumulateOptions a;
     if (o.voxel) a.grid = voxel_request(*o.voxel);
-    else if (!grid_is_auto(o)) a.grid = parse_grid_request(o.grid);
+    else if (!grid_is_auto(o)) a.grid = parse_grid_request(o.grid); // auto: the default request
     if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);
     return a;
 }
-
-bool grid_is_auto(const GridOptions& o) { return !o.voxel && o.grid == "auto"; }
 
 void check_scan_bounds_input(const std::string& input) {
     // A regular file can be opened again for the second pass; a pipe's bytes are gone.

@@ -12,7 +12,7 @@
 namespace lasmesh::cli {
 
 struct GridOptions {
-    std::string grid = "256"; // the meshing command's default is "auto"
+    std::string grid = "auto"; // as the library's default GridRequest
     std::optional<double> voxel; // given: checked, even when 0 or negative
     std::string bounds;
     bool scan_bounds = false;
@@ -23,10 +23,9 @@ struct GridOptions {
 
 void add_grid_options(CLI::App& command, GridOptions& options);
 
-// Checks and converts the options; throws Error (usage) quoting a bad value. For --grid auto the
-// grid is left at its default: the caller chooses it from the header (grid_is_auto, choose_grid).
+// Checks and converts the options; throws Error (usage) quoting a bad value. --grid auto is the
+// default GridRequest, which accumulate_density resolves from the data.
 AccumulateOptions accumulate_options(const GridOptions& options);
-bool grid_is_auto(const GridOptions& options); // --grid auto and no --voxel
 
 // --scan-bounds: the bounds of the points of `input` found by reading it once (scan_points), for
 // a second, gridding pass. Throws Error (usage) for standard input or a pipe, which cannot be read

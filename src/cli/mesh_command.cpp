@@ -35,11 +35,10 @@ CLI::Validator draco_bits_check() {
 } // namespace
 
 void add_mesh_options(CLI::App& app, MeshOptions& o) {
-    app.add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)");
+    app.add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)");
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
                    ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression)");
-    o.grid.grid = "auto"; // real scans mesh by default: the cell follows the points' density
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->capture_default_str();
@@ -60,7 +59,7 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
                    "Simplify until the surface would move more than this: a length in the file's units, a "
                    "fraction of a cell (0.5cell, the default), or 0 for none")
         ->capture_default_str();
-    app.add_flag("--normals,!--no-normals", o.normals, "Per-vertex normals in every output (default: on)");
+    app.add_flag("--no-normals", o.no_normals, "No per-vertex normals in the outputs (they are on by default)");
     app.add_option("--glb-compression", o.glb_compression,
                    "none: a plain .glb every viewer opens; draco: smaller, for three.js and the web")
         ->capture_default_str();
@@ -94,7 +93,6 @@ BuildOptions build_options(const MeshOptions& o) {
     b.report = o.report;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
-    b.auto_grid = grid_is_auto(o.grid);
     b.bounds = accumulate.bounds;
     b.slice_bytes = accumulate.slice_bytes;
     b.max_memory = accumulate.max_memory;
@@ -102,7 +100,7 @@ BuildOptions build_options(const MeshOptions& o) {
     if (iso >= 0) b.iso = iso;
     b.min_piece = parse_min_piece(o.min_piece);
     b.simplify = parse_simplify(o.simplify);
-    b.normals = o.normals;
+    b.normals = !o.no_normals;
     b.placement = parse_placement(o.placement);
     b.surface = parse_surface(o.surface);
     b.device = o.grid.device;

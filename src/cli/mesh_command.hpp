@@ -21,7 +21,7 @@ struct MeshOptions {
     std::string placement = "surface";
     std::string min_piece = "5%";
     std::string simplify = "0.5cell";
-    bool normals = true;
+    bool no_normals = false;
     std::string glb_compression = "none";
     std::string glb_origin = "extras";
     bool ascii = false;

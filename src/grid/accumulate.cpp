@@ -4,6 +4,7 @@
 // buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool
 // of bricks when a slice's new bricks would not fit, and reads the pool back in brick order.
 #include "lasmesh/grid/density_grid.hpp"
+#include "lasmesh/grid/auto_grid.hpp"
 
 #include "brick_pool.hpp"
 #include "host_memory.hpp"
@@ -57,7 +58,8 @@ struct Carry {
 
 } // namespace
 
-DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+// Accumulates into the grid `options` names exactly (a chosen request, or a given spec).
+static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     const LasHeader& header = reader.header();
     ComputeDevice::Impl& dev = device.impl();
     const std::size_t length = header.point_record_length;
@@ -398,6 +400,24 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
         throw_device_error(e, "accumulating the grid on " + dev.info.name);
     }
     return out;
+}
+
+DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+    const GridRequest& request = options.grid;
+    if (options.spec || request.kind != GridRequest::Kind::automatic) return accumulate_into(reader, device, options);
+    if (request.dims != std::array<std::uint32_t, 3>{0, 0, 0} || request.voxel != 0)
+        throw Error(ErrorKind::usage, "the grid request gives cells or a cell edge but asks for an automatic grid: "
+                                      "GridRequest::longest(N), cells(NX, NY, NZ) or cell_edge(E) set both");
+    // The header's count and extents give a first grid; the counts in its cells a second look.
+    const LasHeader& header = reader.header();
+    const GridChoice choice = choose_grid(header.point_count, options.bounds.value_or(Bounds{header.min, header.max}),
+                                          reader.stream().name());
+    AccumulateOptions chosen = options;
+    chosen.grid = choice.request;
+    DensityGrid grid = accumulate_into(reader, device, chosen);
+    const std::string coarsened = coarsen_while_sparse(grid);
+    grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
+    return grid;
 }
 
 } // namespace lasmesh

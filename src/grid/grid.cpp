@@ -37,6 +37,11 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
     // (a flat scan's plane, the extreme points) lie inside cells, never on the grid's boundary,
     // where no surface can be contoured.
     switch (request.kind) {
+    case GridRequest::Kind::automatic:
+        // Choosing needs the point count as well as the bounds (choose_grid); accumulate_density
+        // does that before it comes here.
+        usage_error("an automatic grid is chosen from the points' count and bounds: use accumulate_density or "
+                    "choose_grid, or ask for a number of cells or a cell edge");
     case GridRequest::Kind::longest_axis:
         if (request.dims[0] > max_grid_cells) too_many(request.dims[0]);
         grid.cell_size = longest / std::max<std::uint32_t>(1, request.dims[0] - 1);

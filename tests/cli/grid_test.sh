@@ -26,6 +26,12 @@ for d in (a, b): d.pop("seconds")
 assert a == b, (a, b)
 ' "$dir/file.json" "$dir/pipe.json"
 
+# With no --grid, the grid meshing would use: chosen from the data, said why.
+"$lasmesh" grid "$dir/s.las" > "$dir/auto.txt"
+"$lasmesh" "$dir/s.las" -o "$dir/auto.ply" 2> "$dir/mesh.txt"
+check "grid previews meshing's automatic grid" test "$(grep -o "cells of [0-9.]* (auto: .*" "$dir/auto.txt" | cut -d' ' -f3)" = \
+  "$(grep -o "cells of [0-9.]* (auto: .*" "$dir/mesh.txt" | cut -d' ' -f3)"
+check "grid says the grid was chosen from the data" contains "$dir/auto.txt" "(auto: "
 "$lasmesh" grid --bounds 0,0,0,1,1,1 "$dir/s.las" > "$dir/out.txt"
 check "points outside --bounds are counted" contains "$dir/out.txt" "points outside grid  50000 (100.000%)"
 

@@ -27,10 +27,17 @@ check "find_package(lasmesh) configures" test $? -eq 0 || cat "$dir/configure.lo
 cmake --build "$dir/consumer" > "$dir/build.log" 2>&1
 check "the consumer builds and links" test $? -eq 0 || tail -20 "$dir/build.log"
 "$lasgen" --scene sphere --points 20000 -o "$dir/s.las"
-"$dir/consumer/consumer" "$dir/s.las" "$dir/s.ply" > "$dir/out.txt"
-check "the consumer's build_mesh call succeeds" test $? -eq 0
+"$dir/consumer/consumer" "$dir/s.las" "$dir/lib.glb" "$dir/s.ply" > "$dir/out.txt"
+check "the consumer's build_mesh calls succeed" test $? -eq 0
 check "the consumer reads and meshes" grep -q "^20000 points, [1-9][0-9]* triangles" "$dir/out.txt"
 check "the consumer's mesh is closed" grep -q "triangles, closed$" "$dir/out.txt"
 check "the consumer's PLY is written" test -s "$dir/s.ply"
+# BuildOptions{} is the command line's default run: the same bytes.
+"$dir/prefix/bin/lasmesh" "$dir/s.las" -o "$dir/cli.glb" -q
+check "BuildOptions{} writes what the command writes with no options" cmp "$dir/lib.glb" "$dir/cli.glb"
+"$lasgen" --scene deck --points 200000 -o "$dir/d.las"
+"$dir/consumer/consumer" "$dir/d.las" "$dir/lib-deck.drc" "$dir/d.ply" > /dev/null
+"$dir/prefix/bin/lasmesh" "$dir/d.las" -o "$dir/cli-deck.drc" -q
+check "... on a deck, in Draco too" cmp "$dir/lib-deck.drc" "$dir/cli-deck.drc"
 
 finish "install"

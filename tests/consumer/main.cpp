@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// Meshes a LAS file through the installed library's one entry point, build_mesh, and checks
-// the result: the headers, the reader (Boost.Iostreams inside), the OpenCL accumulation, the
-// extractor (TBB) and the PLY writer all link from the package alone.
+// Meshes a LAS file through the installed library's one entry point, build_mesh, twice: with
+// BuildOptions{} into DEFAULT_OUT (which must equal the command line's output with no options,
+// byte for byte), and as a coarse closed surface whose mesh is checked here. The headers, the
+// reader (Boost.Iostreams inside), the OpenCL accumulation, the extractor (TBB) and the writers
+// all link from the package alone.
+// Usage: consumer INPUT DEFAULT_OUT CLOSED_OUT.ply
 #include <lasmesh/build_mesh.hpp>
 
 #include <iostream>
@@ -9,11 +12,20 @@
 #include <utility>
 
 int main(int argc, char** argv) {
-    if (argc != 3) return 1;
+    if (argc != 4) return 1;
+    try {
+        lasmesh::BuildOptions defaults;
+        defaults.outputs.push_back({argv[2]});
+        lasmesh::build_mesh(argv[1], defaults);
+    } catch (const lasmesh::Error& e) {
+        std::cerr << "consumer: " << e.what() << "\n";
+        return 1;
+    }
+
     lasmesh::BuildOptions options;
-    options.grid.dims = {32, 0, 0}; // a coarse grid: the test scene is small
+    options.grid = lasmesh::GridRequest::longest(32); // a coarse grid: the test scene is small
     options.surface = lasmesh::SurfaceKind::closed; // a watertight solid, checked below
-    options.outputs.push_back({argv[2], lasmesh::MeshFormat::ply});
+    options.outputs.push_back({argv[3], lasmesh::MeshFormat::ply});
     options.keep_mesh = true;
     const lasmesh::BuildResult result = lasmesh::build_mesh(argv[1], options);
     const lasmesh::Mesh& mesh = *result.mesh;

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace lasmesh {
@@ -80,6 +81,7 @@ struct DensityGrid {
     static_assert(brick_cells <= 64, "a brick's occupied cells are the bits of one 64-bit mask");
 
     GridSpec spec;
+    std::string grid_reason; // how an automatic grid was chosen ("auto: ..."); empty otherwise
     std::array<AxisCells, 3> axes; // each axis's cell starts in raw LAS integers
     Vec3 scale{1, 1, 1}, offset{}; // the LAS header's, to turn raw sums into coordinates
     std::array<std::uint32_t, 3> bricks{};

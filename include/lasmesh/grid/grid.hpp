@@ -18,11 +18,17 @@ struct Bounds {
     Vec3 max{};
 };
 
-// What the user asked for: N cells along the longest axis, NX x NY x NZ cells, or a cell edge.
+// What the user asked for: a grid chosen from the data (the default, as `lasmesh --grid auto`),
+// N cells along the longest axis, NX x NY x NZ cells, or a cell edge. Build one with the named
+// constructors: GridRequest::longest(512), GridRequest::cells(512, 256, 128), GridRequest::cell_edge(0.05).
 struct GridRequest {
-    enum class Kind { longest_axis, explicit_dims, voxel_size } kind = Kind::longest_axis;
-    std::array<std::uint32_t, 3> dims{256, 0, 0}; // longest_axis uses dims[0]
-    double voxel = 0;                              // voxel_size: cell edge in file units
+    enum class Kind { automatic, longest_axis, explicit_dims, voxel_size } kind = Kind::automatic;
+    std::array<std::uint32_t, 3> dims{0, 0, 0}; // longest_axis uses dims[0]
+    double voxel = 0;                            // voxel_size: cell edge in file units
+
+    static GridRequest longest(std::uint32_t n) { return {Kind::longest_axis, {n, 0, 0}, 0}; }
+    static GridRequest cells(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz) { return {Kind::explicit_dims, {nx, ny, nz}, 0}; }
+    static GridRequest cell_edge(double edge) { return {Kind::voxel_size, {0, 0, 0}, edge}; }
 };
 
 // Cubic cells of edge `cell_size`; cell (i, j, k) spans origin + [i, i+1) * cell_size on x (and
