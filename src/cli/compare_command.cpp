@@ -2,12 +2,14 @@
 // `lasmesh compare`: reads the mesh, streams the cloud, prints the distance statistics.
 #include "compare_command.hpp"
 #include "option_parsing.hpp"
+#include "progress.hpp"
 
 #include "io/json.hpp"
 #include "lasmesh/measure/compare.hpp"
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/error.hpp"
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/same_file.hpp"
 #include "lasmesh/io/ply_reader.hpp"
@@ -48,12 +50,23 @@ void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
     out << "\n";
 }
 
+// The answer first, in a sentence: how close the points are to the mesh, and the mesh to them.
+std::string verdict(const CompareResult& r) {
+    const DistanceStats& c = r.cloud_to_mesh;
+    std::string text = "half of the points lie within " + four_digits(c.median) + " of the mesh";
+    if (r.cell_size > 0) {
+        text += " (" + two_digits(c.median / r.cell_size) + " cell); " + four_digits(100 * c.within_1_cell) +
+                "% within a cell, " + four_digits(100 * c.within_2_cells) + "% within 2 cells";
+    }
+    return text + "; 95% of the mesh lies within " + four_digits(r.mesh_to_cloud.p95) + " of a point";
+}
+
 } // namespace
 
 CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     CLI::App* c = app.add_subcommand("compare", "Distances between a mesh and the point cloud it came from, both ways");
     c->add_option("MESH", o.mesh, "Mesh: .ply (lasmesh's or any triangle PLY), or lasmesh's .drc or .glb")->required();
-    c->add_option("INPUT", o.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
+    c->add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
     c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
         ->capture_default_str()
         ->check(whole_number(1, std::uint64_t{1} << 34));
@@ -76,13 +89,17 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
         check_output_folder(o.heatmap);
         check_distinct_files({{"the mesh", o.mesh}, {"the input", o.input}, {"--heatmap", o.heatmap}});
     }
+    Progress progress(log, stderr_is_terminal()); // a line redrawn in place, on a terminal only
+    progress.stage("reading " + o.mesh);
     Mesh mesh = read_mesh(o.mesh);
     LasReader cloud(o.input);
     CompareOptions options;
     options.samples = o.samples;
     options.mesh_samples = o.mesh_samples;
     options.cell_size = o.cell_size;
+    options.on_step = [&](const std::string& step) { progress.stage(step); };
     const CompareResult r = compare(mesh, cloud, options);
+    progress.clear();
 
     if (o.json) {
         Json json;
@@ -94,11 +111,13 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
         json["cell_size"] = r.cell_size > 0 ? Json(r.cell_size) : Json(nullptr); // null: unknown
         out << json_line(json) << "\n";
     } else {
+        out << "verdict        " << verdict(r) << "\n"
+            << "units          the file's (metres in most projected coordinate systems); every length below too\n";
         out << std::setprecision(4) << "mesh           " << o.mesh << ": " << mesh.positions.size() << " vertices, "
             << mesh.triangles.size() << " triangles\n"
             << "cloud          " << cloud.stream().name() << ": " << r.points_read << " points, " << r.points_used
             << " used\n"
-            << "cell size      " << (r.cell_size > 0 ? format_double(r.cell_size) : "unknown (give --cell-size)") << "\n";
+            << "cell size      " << (r.cell_size > 0 ? four_digits(r.cell_size) : "unknown (give --cell-size)") << "\n";
         print_stats(out, "cloud to mesh  ", r.cloud_to_mesh);
         out << "               (" << r.points_used << " points)\n";
         print_stats(out, "mesh to cloud  ", r.mesh_to_cloud);

@@ -31,9 +31,22 @@ std::string join(const Rgb16& v) {
     return std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]);
 }
 
+// COPC files are LAZ whose first VLR is the "copc" info record (COPC 1.0 specification).
+bool is_copc(const LasHeader& h) {
+    for (const Vlr& vlr : h.vlrs)
+        if (vlr.user_id == "copc" && vlr.record_id == 1) return true;
+    return false;
+}
+
+std::string records_text(const LasHeader& h) {
+    if (!h.compressed) return "LAS (uncompressed)";
+    return is_copc(h) ? "LAZ (LASzip-compressed), COPC (cloud-optimised: chunks in an octree)" : "LAZ (LASzip-compressed)";
+}
+
 void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
     Json json;
     json["version"] = version_string(h);
+    json["records"] = !h.compressed ? "las" : is_copc(h) ? "copc" : "laz";
     json["point_format"] = h.point_format;
     json["point_record_length"] = h.point_record_length;
     json["point_count"] = h.point_count;
@@ -61,6 +74,7 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
     out << "input                " << in.name();
     if (in.compression() != Compression::none) out << " (" << compression_name(in.compression()) << ")";
     out << "\nversion              " << version_string(h)
+        << "\nrecords              " << records_text(h)
         << "\npoint format         " << int(h.point_format) << " (" << h.point_record_length
         << "-byte records, " << core_record_size(h.point_format) << " core + "
         << h.point_record_length - core_record_size(h.point_format) << " extra)"

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
     info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
                          "  xzcat deck.las.xz | lasmesh info -");
-    info_command->add_option("INPUT", info.input, "LAS file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+    info_command->add_option("INPUT", info.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
         ->required();
     info_command->add_flag("--json", info.json, "One JSON object instead of text");
     info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     lasmesh::cli::GridCommandOptions grid;
     CLI::App* grid_command = app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
     grid_command->footer("Examples:\n  lasmesh grid deck.las --grid 512\n  lasmesh grid deck.las --voxel 0.05 --json");
-    grid_command->add_option("INPUT", grid.input, "LAS file, or - for standard input")->required();
+    grid_command->add_option("INPUT", grid.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
     lasmesh::cli::add_grid_options(*grid_command, grid.grid);
     grid_command->add_flag("--json", grid.json, "One JSON object instead of text");
 

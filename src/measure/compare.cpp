@@ -123,10 +123,15 @@ CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& 
         throw Error(ErrorKind::input, "every triangle of the mesh has zero area: there is no surface to measure");
     CompareResult result;
     result.cell_size = options.cell_size > 0 ? options.cell_size : mesh.cell_size;
+    const auto step = [&](const std::string& what) {
+        if (options.on_step) options.on_step(what);
+    };
+    step("reading the cloud");
     const PointSearch points(load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
     result.points_used = points.size();
     if (points.size() == 0) throw_input_error(cloud.stream().name(), "has no point records: nothing to measure against");
 
+    step("measuring cloud to mesh (" + std::to_string(points.size()) + " points)");
     std::vector<double> to_mesh(points.size());
     const TriangleSearch triangles(mesh);
     const std::vector<std::uint32_t> order = spatial_order(points);
@@ -139,6 +144,7 @@ CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& 
     });
     result.cloud_to_mesh = summarize(to_mesh, result.cell_size);
 
+    step("measuring mesh to cloud");
     const std::vector<Vec3> samples = sample_surface(mesh, options.mesh_samples);
     result.samples_used = samples.size();
     std::vector<double> to_cloud(samples.size());

@@ -51,8 +51,19 @@ check "text report gives the points used" contains "$dir/c.txt" "1000000 points,
 check "heat map legend" contains "$dir/log.txt" "red 0.5"
 check "heat map is a closed coloured mesh" python3 "$here/ply_check.py" "$dir/heat.ply" 0,0,0 0,0,0 1e9
 gzip -c "$dir/deck.las" | "$lasmesh" compare "$dir/closed.ply" - --samples 50000 > "$dir/stdin.txt" 2> /dev/null
-check "stdin and gzip give the same report" diff <(tail -n +3 "$dir/c.txt") <(tail -n +3 "$dir/stdin.txt")
+check "stdin and gzip give the same report" diff <(tail -n +5 "$dir/c.txt") <(tail -n +5 "$dir/stdin.txt")
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/a.json"
+# The answer first: the median and the shares within a cell of the JSON, in a sentence, with the unit.
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 > "$dir/a.txt"
+check "text report starts with the verdict" python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))["cloud_to_mesh"]
+first, second = open(sys.argv[2]).read().split("\n")[:2]
+want = "verdict        half of the points lie within %.4g of the mesh" % d["median"]
+assert first.startswith(want), (first, want)
+assert ("%.4g%% within a cell" % (100 * d["within_1_cell"])) in first, first
+assert second.startswith("units          the file") and "metres" in second, second
+' "$dir/a.json" "$dir/a.txt"
 OMP_NUM_THREADS=1 taskset -c 0 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/b.json"
 check "one core gives the same numbers" cmp -s "$dir/a.json" "$dir/b.json"
 

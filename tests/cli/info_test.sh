@@ -12,8 +12,9 @@ same() { cmp -s "$1" "$2"; }
 check "json has the documented keys" python3 -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert set(d) == {"version", "point_format", "point_record_length", "point_count", "scale", "offset",
+assert set(d) == {"version", "records", "point_format", "point_record_length", "point_count", "scale", "offset",
                   "bounds", "has_color", "vlrs", "scanned"}, sorted(d)
+assert d["records"] == "las", d["records"]
 assert d["version"] == "1.4" and d["point_format"] == 7 and d["point_count"] == 30000
 assert d["scanned"]["point_count"] == 30000 and d["has_color"] is True
 assert set(d["scanned"]) == {"point_count", "bounds", "color_min", "color_max"}

@@ -22,6 +22,9 @@ import json, subprocess, sys
 d = json.loads(subprocess.run([sys.argv[1], "info", "--json", "--scan", sys.argv[2]], capture_output=True, text=True).stdout)
 assert d["point_format"] == 7 and d["point_record_length"] == 36 and d["scanned"]["point_count"] == 1065, d
 ' "$lasmesh" "$laz/laspy_simple.copc.laz"
+check "info names COPC" contains <("$lasmesh" info "$laz/laspy_simple.copc.laz") "^records              LAZ (LASzip-compressed), COPC"
+check "info names LAZ" contains <("$lasmesh" info "$laz/laspy_simple.laz") "^records              LAZ (LASzip-compressed)$"
+check "info --json names COPC" contains <("$lasmesh" info --json "$laz/laspy_simple.copc.laz") '"records":"copc"'
 
 # A whole mesh from LAZ: the file and a gzip stream give the same bytes.
 lone=$laz/pdal_lone-star_first_chunk.laz

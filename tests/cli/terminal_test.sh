@@ -21,6 +21,13 @@ script -qfec "{ head -c 3000000 '$dir/d.las'; sleep 0.6; tail -c +3000001 '$dir/
   '$lasmesh' - -o '$dir/pipe.ply' --grid 128 --chunk-mb 1" /dev/null > "$dir/pipe.txt" 2>&1
 check "progress gives a rate and the time left" contains "$dir/pipe.txt" "points/s, 0:00:0[0-9] left"
 
+# compare shows its steps too, and erases the line before its report.
+script -qfec "'$lasmesh' compare '$dir/tty.ply' '$dir/d.las'" /dev/null > "$dir/compare.txt" 2>&1
+check "compare draws its steps on a terminal" has "$dir/compare.txt" "${erase}measuring cloud to mesh (300000 points)"
+check "compare erases the line before its report" has "$dir/compare.txt" "${erase}verdict        "
+"$lasmesh" compare "$dir/tty.ply" "$dir/d.las" > "$dir/compare-file.txt" 2>&1
+check "compare draws nothing into a file" lacks "$dir/compare-file.txt" "measuring"
+
 # A run that fails after the progress line was drawn: the line is erased before the error.
 script -qfec "'$lasmesh' '$dir/d.las' -o '$dir/none.ply' --grid 128 --min-piece 1e9" /dev/null > "$dir/fail.txt" 2>&1
 check "progress line erased before an error" has "$dir/fail.txt" "${erase}lasmesh: $dir/d.las: the mesh is empty"

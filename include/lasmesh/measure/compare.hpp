@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace lasmesh {
@@ -29,6 +31,8 @@ struct CompareOptions {
     std::uint64_t samples = 5'000'000;      // cloud points used at most, spread evenly over the file
     std::uint64_t mesh_samples = 1'000'000; // points sampled on the mesh surface
     double cell_size = 0;                   // 0: the mesh's own (from its file), if known
+    // Called as each step starts ("reading the cloud", "cloud to mesh", ...), for a progress line.
+    std::function<void(const std::string& step)> on_step;
 };
 
 struct CompareResult {
