@@ -355,6 +355,29 @@ TEST_CASE("degenerate extents still give a valid grid") {
     }
 }
 
+TEST_CASE("grid requests: automatic by default, resolved from the data; cells without a kind are refused") {
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i < 2000; ++i) points.push_back(at((i % 50) * 0.2, (i / 50) * 0.2, 0));
+    test::write_file(dir.file("plane.las"), las_with_points(points, {0, 0, 0}, {9.8, 7.8, 0}, 8, 1));
+    const DensityGrid automatic = accumulate_file(dir.file("plane.las"), AccumulateOptions{});
+    CHECK(automatic.grid_reason.rfind("auto: ", 0) == 0);
+    AccumulateOptions same;
+    same.grid = GridRequest::longest(automatic.spec.dims[0]);
+    const DensityGrid chosen = accumulate_file(dir.file("plane.las"), same);
+    CHECK(chosen.spec.dims == automatic.spec.dims); // the same cells, asked for by number
+    CHECK(chosen.grid_reason.empty());
+    AccumulateOptions half_set;
+    half_set.grid.dims = {64, 0, 0}; // the kind still says automatic
+    try {
+        accumulate_file(dir.file("plane.las"), half_set);
+        FAIL("no error");
+    } catch (const Error& e) {
+        CHECK(e.kind() == ErrorKind::usage);
+        CHECK(std::string(e.what()).find("GridRequest::longest(N)") != std::string::npos);
+    }
+}
+
 TEST_CASE("--bounds, --voxel and explicit dimensions") {
     test::TempDir dir;
     std::vector<lasgen::GeneratedPoint> points;
