@@ -132,9 +132,9 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
         mesh.colors.resize(mesh.positions.size());
         for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.colors[v] = heat_color(r.vertex_distance[v], scale);
         write_ply(mesh, o.heatmap, false);
-        log << "heat map       " << o.heatmap << ": blue 0, cyan " << format_double(scale / 4) << ", green "
-            << format_double(scale / 2) << ", yellow " << format_double(3 * scale / 4) << ", red "
-            << format_double(scale) << " and beyond (distance from each vertex to the nearest point)\n";
+        log << "heat map       " << o.heatmap << ": blue 0, cyan " << four_digits(scale / 4) << ", green "
+            << four_digits(scale / 2) << ", yellow " << four_digits(3 * scale / 4) << ", red "
+            << four_digits(scale) << " and beyond (distance from each vertex to the nearest point)\n";
     }
 }
 
