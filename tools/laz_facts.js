@@ -24,6 +24,7 @@
 const fs = require('fs');
 const path = require('path');
 const crypto = require('crypto');
+const { loadLazPerf } = require('./laz_perf');
 
 const COLUMNS = ['file_size', 'sha256', 'las_version', 'point_format', 'record_length', 'laszip_compressor',
   'chunk_size', 'num_chunks', 'is_copc', 'point_count', 'points_sha256', 'min_raw', 'max_raw', 'rgb_min', 'rgb_max'];
@@ -32,15 +33,6 @@ const RGB_OFFSET = { 2: 20, 3: 28, 5: 28, 7: 30, 8: 30, 10: 30 };
 
 const sha256 = (b) => crypto.createHash('sha256').update(b).digest('hex');
 
-async function loadLazPerf() {
-  const dir = path.join(__dirname, '..', 'build', 'laz-perf', 'node_modules', 'laz-perf');
-  if (!fs.existsSync(dir)) {
-    throw new Error('laz-perf is not installed: npm install --prefix build/laz-perf --no-audit --no-fund ' +
-                    '--loglevel=error laz-perf@0.0.7');
-  }
-  const { createLazPerf } = require(dir);
-  return createLazPerf();
-}
 
 // Calls visit(record bytes, index) for the first `limit` records (all when undefined).
 function decodeRecords(lp, bytes, limit, visit) {

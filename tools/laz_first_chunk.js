@@ -43,6 +43,7 @@
 const fs = require('fs');
 const path = require('path');
 const crypto = require('crypto');
+const { loadLazPerf } = require('./laz_perf');
 
 const TWO32 = 4294967296;
 
@@ -398,15 +399,6 @@ function parseLas(buf) {
 // ---------------------------------------------------------------------------------------------
 // laz-perf (decoding only).
 
-async function loadLazPerf() {
-  const dir = path.join(__dirname, '..', 'build', 'laz-perf', 'node_modules', 'laz-perf');
-  if (!fs.existsSync(dir)) {
-    throw new Error('laz-perf is not installed: npm install --prefix build/laz-perf --no-audit --no-fund ' +
-                    '--loglevel=error laz-perf@0.0.7');
-  }
-  const { createLazPerf } = require(dir);
-  return createLazPerf();
-}
 
 // The first `limit` records (all if limit is undefined) of a LAZ file, concatenated.
 function lazPerfRecords(lp, bytes, limit) {
