@@ -294,20 +294,25 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso) : extract_isosurface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();
     grid = DensityGrid{}; // not needed any more: the writers get its memory
-    watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + shortest(r.iso));
+    watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(r.iso));
+    watch.stage_started(BuildStage::extract, "removing small pieces");
     r.pieces = remove_small_pieces(mesh, o.min_piece);
     SimplifyOptions simplify;
     simplify.error = o.simplify.in_cells ? o.simplify.error * r.grid.cell_size : o.simplify.error;
     simplify.lock_border = o.simplify.lock_border;
+    if (simplify.error > 0) watch.stage_started(BuildStage::extract, "simplifying " + std::to_string(mesh.triangles.size()) + " triangles");
     r.simplify = simplify_mesh(mesh, simplify);
     if (simplify.error > 0)
         watch.detail("simplified     " + std::to_string(r.simplify.triangles_before) + " to " +
-                     std::to_string(r.simplify.triangles_after) + " triangles within " + shortest(simplify.error) +
+                     std::to_string(r.simplify.triangles_after) + " triangles within " + four_digits(simplify.error) +
                      " in " + two_digits(r.simplify.seconds) + " s");
     r.input = reader.stream().name();
     if (mesh.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
     if (!o.normals) mesh.normals.clear();
-    else if (mesh.normals.empty()) compute_vertex_normals(mesh); // the extraction gave none
+    else if (mesh.normals.empty()) {
+        watch.stage_started(BuildStage::extract, "computing normals");
+        compute_vertex_normals(mesh); // the extraction gave none
+    }
     r.extract = seconds_since(extract_start);
     r.vertices = mesh.positions.size(), r.triangles = mesh.triangles.size(), r.colored = !mesh.colors.empty();
     r.normals = !mesh.normals.empty();

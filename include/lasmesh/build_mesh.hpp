@@ -132,7 +132,8 @@ enum class BuildStage { read_accumulate, extract, write };
 // thread, in order; an exception thrown from one ends the run with that exception.
 struct BuildObserver {
     virtual ~BuildObserver() = default;
-    // `what` is a short description: "extracting the surface", "writing deck.glb".
+    // `what` is a short description: "extracting the surface", "writing deck.glb". Called again
+    // within a stage as each step of it starts ("simplifying 471971 triangles").
     virtual void stage_started(BuildStage, const std::string& /*what*/) {}
     // `so_far` holds the fields measured up to the end of this stage.
     virtual void stage_ended(BuildStage, const RunReport& /*so_far*/) {}

@@ -3,7 +3,9 @@
 // shortest round trip, two significant digits for timings and steps, megabytes with one decimal.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <iomanip>
 #include <sstream>
@@ -16,12 +18,28 @@ inline std::string shortest(double value) {
     return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
 
-// Four significant digits, for lengths and other measured values people read (0.1191, 977.5).
-inline std::string four_digits(double value) {
+// `digits` significant digits, without an exponent where a person reads better without one
+// (0.1191, 977.5, 2360, 6700200); very large or small values keep it (1e+300).
+inline std::string significant(double value, int digits) {
     std::ostringstream text;
-    text << std::setprecision(4) << value;
+    const double magnitude = std::abs(value);
+    if (magnitude >= 1e-4 && magnitude < 1e12) {
+        const int decimals = std::max(0, digits - 1 - static_cast<int>(std::floor(std::log10(magnitude))));
+        text << std::fixed << std::setprecision(decimals) << value;
+        std::string t = text.str();
+        // No trailing zeros after the point: 0.5, not 0.5000.
+        if (t.find('.') != std::string::npos) {
+            t.erase(t.find_last_not_of('0') + 1);
+            if (t.back() == '.') t.pop_back();
+        }
+        return t;
+    }
+    text << std::setprecision(digits) << value;
     return text.str();
 }
+
+// Four significant digits, for lengths and other measured values people read (0.1191, 977.5).
+inline std::string four_digits(double value) { return significant(value, 4); }
 
 inline std::string two_digits(double value) {
     std::ostringstream text;

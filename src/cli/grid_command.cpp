@@ -3,6 +3,7 @@
 #include "grid_command.hpp"
 
 #include "io/json.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -51,7 +52,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     }
     out << "device               " << device.info().name << " (" << device.info().type << ")\n"
         << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
-        << " cells of " << format_double(grid.spec.cell_size) << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")")
+        << " cells of " << four_digits(grid.spec.cell_size) << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")")
         << "\n"
         << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
         << " " << format_double(grid.spec.origin[2]) << "\n"

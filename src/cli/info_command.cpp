@@ -6,7 +6,11 @@
 #include "lasmesh/read/las_reader.hpp"
 #include "lasmesh/read/las_scan.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 
 namespace lasmesh::cli {
 
@@ -23,6 +27,21 @@ std::string escaped(const std::string& raw) {
     for (unsigned char c : raw) {
         if (c >= 0x20 && c < 0x7F) text += static_cast<char>(c);
         else text += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    }
+    return text;
+}
+
+// Coordinates to the decimals the file's scale can hold (scale 0.001: 3), for people; --json
+// keeps every digit.
+std::string join_scaled(const Vec3& v, const Vec3& scale) {
+    std::string text;
+    for (int a = 0; a < 3; ++a) {
+        const double step = scale[a] > 0 && std::isfinite(scale[a]) ? scale[a] : 1;
+        const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 0, 12);
+        std::ostringstream number;
+        if (std::isfinite(v[a]) && std::abs(v[a]) < 1e15) number << std::fixed << std::setprecision(decimals) << v[a];
+        else number << format_double(v[a]);
+        text += (a ? " " : "") + number.str();
     }
     return text;
 }
@@ -82,8 +101,8 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
         << "\nhas color            " << (has_color(h) ? "yes" : "no")
         << "\nscale                " << join(h.scale)
         << "\noffset               " << join(h.offset)
-        << "\nbounds min           " << join(h.min)
-        << "\nbounds max           " << join(h.max)
+        << "\nbounds min           " << join_scaled(h.min, h.scale)
+        << "\nbounds max           " << join_scaled(h.max, h.scale)
         << "\nsystem identifier    " << escaped(h.system_identifier)
         << "\ngenerating software  " << escaped(h.generating_software)
         << "\nVLRs                 " << h.vlrs.size() << '\n';
@@ -92,8 +111,8 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
             << escaped(vlr.description) << '\n';
     if (scan) {
         out << "scanned point count  " << scan->point_count
-            << "\nscanned bounds min   " << join(scan->min)
-            << "\nscanned bounds max   " << join(scan->max) << '\n';
+            << "\nscanned bounds min   " << join_scaled(scan->min, h.scale)
+            << "\nscanned bounds max   " << join_scaled(scan->max, h.scale) << '\n';
         if (scan->has_color)
             out << "scanned color min    " << join(scan->color_min)
                 << "\nscanned color max    " << join(scan->color_max) << '\n';

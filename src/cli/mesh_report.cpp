@@ -29,25 +29,25 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "device         " << r.device << "\n"
             << "points         " << r.points_read << " read, " << r.points_outside << " outside the grid\n"
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
-            << format_double(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
-            << "iso            " << format_double(r.iso) << (r.iso_auto ? " (auto)" : "")
+            << four_digits(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
+            << "iso            " << four_digits(r.iso) << (r.iso_auto ? " (auto)" : "")
             << " points per cell, "
             << (r.surface == SurfaceKind::sheet ? "one sheet through the points"
                 : r.placement == VertexPlacement::iso ? "closed, vertices on the iso level"
                                                       : "closed, vertices on the surface")
             << "\n"
             << "occupied       " << r.occupied_cells << " cells in " << r.occupied_bricks << " bricks of "
-            << DensityGrid::brick_cells << ", " << format_double(r.pool_bytes / 1e6) << " MB of grid on the device, "
-            << format_double(r.host_grid_bytes / 1e6) << " MB on the host\n"
+            << DensityGrid::brick_cells << ", " << megabytes(r.pool_bytes) << " of grid on the device, "
+            << megabytes(r.host_grid_bytes) << " on the host\n"
             << "origin         " << format_double(r.origin[0]) << " " << format_double(r.origin[1]) << " "
             << format_double(r.origin[2]) << " (output positions are relative to it)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
-            << r.pieces.triangles_removed << " triangles) below a diagonal of " << format_double(r.pieces.min_diagonal)
+            << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
             << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : std::string()) << "\n"
             << "simplify       ";
     if (r.simplify.error > 0)
         summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, bound "
-                << format_double(r.simplify.error) << " (" << c.simplify_text << "), in "
+                << four_digits(r.simplify.error) << " (" << c.simplify_text << "), in "
                 << two_digits(r.simplify.seconds) << " s\n";
     else
         summary << "off\n";

@@ -2,6 +2,7 @@
 // choose_grid: points per unit of surface area, then the cell edge h that puts
 // auto_grid_points_per_cell points into a surface cell: N h^2 / A = k, h = sqrt(k A / N).
 #include "lasmesh/grid/auto_grid.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include "lasmesh/error.hpp"
 
@@ -32,13 +33,11 @@ GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const st
     GridChoice choice;
     choice.request.kind = GridRequest::Kind::longest_axis;
     choice.request.dims = {cells, 0, 0};
-    char text[160];
-    std::snprintf(text, sizeof text, "%.3g points per unit of area over about %.3g square units: %u cells%s",
-                  point_count / area, area, cells,
-                  wanted < auto_grid_min_cells   ? " (the fewest allowed)"
-                  : wanted > auto_grid_max_cells ? " (the most allowed; give --grid for more)"
-                                                 : "");
-    choice.reason = text;
+    choice.reason = significant(point_count / area, 3) + " points per unit of area over about " + significant(area, 3) +
+                    " square units: " + std::to_string(cells) + " cells" +
+                    (wanted < auto_grid_min_cells   ? " (the fewest allowed)"
+                     : wanted > auto_grid_max_cells ? " (the most allowed; give --grid for more)"
+                                                    : "");
     return choice;
 }
 

@@ -24,6 +24,7 @@ assert d["point_format"] == 7 and d["point_record_length"] == 36 and d["scanned"
 ' "$lasmesh" "$laz/laspy_simple.copc.laz"
 check "info names COPC" contains <("$lasmesh" info "$laz/laspy_simple.copc.laz") "^records              LAZ (LASzip-compressed), COPC"
 check "info names LAZ" contains <("$lasmesh" info "$laz/laspy_simple.laz") "^records              LAZ (LASzip-compressed)$"
+check "info gives the bounds to the scale's decimals" contains <("$lasmesh" info "$laz/laspy_simple.copc.laz") "^bounds min           635619.85 848899.70 406.59$"
 check "info --json names COPC" contains <("$lasmesh" info --json "$laz/laspy_simple.copc.laz") '"records":"copc"'
 
 # A whole mesh from LAZ: the file and a gzip stream give the same bytes.

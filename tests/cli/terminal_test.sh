@@ -16,6 +16,9 @@ script -qfec "'$lasmesh' '$dir/d.las' -o '$dir/tty.ply' --grid 128" /dev/null > 
 check "progress drawn on a terminal" has "$dir/tty.txt" "${erase}reading   "
 check "progress gives the file's bytes" contains "$dir/tty.txt" "MB of 10.2 MB"
 check "progress names the stages" has "$dir/tty.txt" "${erase}extracting the surface"
+check "progress names the steps of extraction" has "$dir/tty.txt" "${erase}simplifying "
+check "numbers for people: the cell in four digits" contains "$dir/tty.txt" "cells of [0-9]*\.[0-9]\{1,4\}[^0-9]"
+check "numbers for people: megabytes with one decimal" contains "$dir/tty.txt" "bricks of 64, [0-9]*\.[0-9] MB of grid"
 check "progress line erased before the summary" has "$dir/tty.txt" "${erase}input          "
 script -qfec "{ head -c 3000000 '$dir/d.las'; sleep 0.6; tail -c +3000001 '$dir/d.las'; } |
   '$lasmesh' - -o '$dir/pipe.ply' --grid 128 --chunk-mb 1" /dev/null > "$dir/pipe.txt" 2>&1
