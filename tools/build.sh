@@ -18,8 +18,8 @@ packages=(
 test_packages=(
   # compressors for piped input, python3 to read JSON, bc
   gzip bzip2 xz-utils zstd python3 bc
-  # the install test renders the man page
-  groff-base
+  # the install test renders the man page; the package test builds the .deb (dpkg-shlibdeps)
+  groff-base dpkg-dev
   # the viewers test opens the outputs in other programs: assimp (as Open3D and many viewers do)
   assimp-utils python3-open3d
   # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
