@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 // The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
 // simplify -> normals -> write each output, timed per stage and per output.
-#include "lasmesh/number_text.hpp"
 #include "lasmesh/build_mesh.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include "lasmesh/error.hpp"
 #include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/same_file.hpp"
 #include "lasmesh/io/ply_writer.hpp"
+#include "lasmesh/io/same_file.hpp"
 #include "lasmesh/mesh/normals.hpp"
 #include "lasmesh/read/las_scan.hpp"
 
@@ -18,8 +18,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -58,12 +58,15 @@ Bounds scanned_bounds(const std::string& input) {
 }
 
 // Writes one output into its temporary file; build_mesh renames them all at the end.
-void write_output(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name, OutputFile& file) {
+void write_output(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
+                  OutputFile& file) {
     if (format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
     std::string bytes;
     try {
-        if (format == MeshFormat::draco) bytes = encode_draco(mesh, output.draco);
-        else bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
+        if (format == MeshFormat::draco)
+            bytes = encode_draco(mesh, output.draco);
+        else
+            bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
     } catch (const Error& e) {
         throw Error(e.kind(), output.path + ": " + e.what());
     }
@@ -86,7 +89,8 @@ std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const DensityG
     const std::uint64_t nx = (grid.spec.dims[0] + 1) / 2, ny = (grid.spec.dims[1] + 1) / 2;
     grid.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
         fine += static_cast<double>(grid.cells[r].count) > iso;
-        coarse.emplace_back((std::uint64_t(at[2] / 2) * ny + std::uint64_t(at[1] / 2)) * nx + std::uint64_t(at[0] / 2), grid.cells[r].count);
+        coarse.emplace_back((std::uint64_t(at[2] / 2) * ny + std::uint64_t(at[1] / 2)) * nx + std::uint64_t(at[0] / 2),
+                            grid.cells[r].count);
     });
     std::sort(coarse.begin(), coarse.end());
     std::uint64_t coarser = 0;
@@ -103,14 +107,16 @@ std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const DensityG
 // max_memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
 // the deck at grids 256-2048, rounded up: the cell's plane, normal and orientation links, the
 // mesh around it; the Draco and glTF encoders' copy of the mesh.
-void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o, const std::vector<MeshFormat>& formats,
-                             const std::string& input, std::uint64_t in_use_before_grid) {
+void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o,
+                             const std::vector<MeshFormat>& formats, const std::string& input,
+                             std::uint64_t in_use_before_grid) {
     bool encoded = false;
     for (const MeshFormat format : formats) encoded = encoded || format != MeshFormat::ply;
     // The grid is released before the outputs are written, so the encoders' copy replaces it.
     const std::uint64_t fixed = 64ull << 20;
     const auto need_for = [&](double surface_cells, double bricks) {
-        return std::max(surface_cells * 230 + bricks * DensityGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0.0);
+        return std::max(surface_cells * 230 + bricks * DensityGrid::brick_cells * 10,
+                        encoded ? surface_cells * 400 : 0.0);
     };
     std::uint64_t surface_cells = 0;
     for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
@@ -120,18 +126,20 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
     // The grid that fits: the surface (and the grid held while meshing it) shrink as the grid to
     // the power measured from this grid to the one twice as coarse, at most 2 (a dense surface).
     const auto [fine, coarser] = surface_cells_and_coarser(grid, iso);
-    const double power = fine > 0 && coarser > 0 ? std::clamp(std::log2(double(fine) / double(coarser)), 0.25, 2.0) : 2.0;
+    const double power =
+        fine > 0 && coarser > 0 ? std::clamp(std::log2(double(fine) / double(coarser)), 0.25, 2.0) : 2.0;
     const double base = static_cast<double>(std::min(in_use_before_grid, in_use) + fixed);
     const double room = std::max(0.0, static_cast<double>(o.max_memory) - base);
     const double shrink = std::pow(room / std::max(1.0, static_cast<double>(in_use) + need - base), 1 / power);
     const std::uint32_t longest = std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]});
     const auto fit = static_cast<std::uint32_t>(std::floor(longest * std::min(0.9, 0.9 * shrink)));
-    throw Error(ErrorKind::usage, input + ": the grid " + std::to_string(grid.spec.dims[0]) + "x" +
-                                      std::to_string(grid.spec.dims[1]) + "x" + std::to_string(grid.spec.dims[2]) +
-                                      " does not fit: its " + std::to_string(surface_cells) + " surface cells need about " +
-                                      mebibytes(static_cast<std::uint64_t>(need)) + " to mesh and write besides the " +
-                                      mebibytes(in_use) + " in use, more than --max-memory (" + mebibytes(o.max_memory) + ")" +
-                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") + " (nothing was written)");
+    throw Error(ErrorKind::usage,
+                input + ": the grid " + std::to_string(grid.spec.dims[0]) + "x" + std::to_string(grid.spec.dims[1]) +
+                    "x" + std::to_string(grid.spec.dims[2]) + " does not fit: its " + std::to_string(surface_cells) +
+                    " surface cells need about " + mebibytes(static_cast<std::uint64_t>(need)) +
+                    " to mesh and write besides the " + mebibytes(in_use) + " in use, more than --max-memory (" +
+                    mebibytes(o.max_memory) + ")" + (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
+                    " (nothing was written)");
 }
 
 // Far more points a cell than --grid auto aims at: the grid is much coarser than the points.
@@ -150,8 +158,9 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
         why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
               std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
     } else if (extracted == 0 && !(double(fullest) > r.iso) && !(r.iso_auto && too_fine)) {
-        why = "the iso " + shortest(r.iso) + " points per cell leaves no cell: the fullest holds " + std::to_string(fullest) +
-              " points: try an --iso below " + std::to_string(fullest) + " (or auto), or a coarser --grid than " + dims;
+        why = "the iso " + shortest(r.iso) + " points per cell leaves no cell: the fullest holds " +
+              std::to_string(fullest) + " points: try an --iso below " + std::to_string(fullest) +
+              " (or auto), or a coarser --grid than " + dims;
         option = "iso";
     } else if (too_coarse) {
         why = "the grid (" + cells + ") is far too coarse for these points: its " + std::to_string(r.occupied_cells) +
@@ -161,7 +170,8 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
         option = "grid";
     } else if (too_fine) {
         why = "the grid (" + cells + ") is too fine for the points' density: its occupied cells hold a median of " +
-              std::to_string(r.median_count) + " point, so no surface holds together; give a coarser --grid, or --grid auto";
+              std::to_string(r.median_count) +
+              " point, so no surface holds together; give a coarser --grid, or --grid auto";
         option = "grid";
     } else if (extracted == 0) {
         why = "no surface was found in the " + std::to_string(r.occupied_cells) + " occupied cells (a median of " +
@@ -183,7 +193,9 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
     throw Error(ErrorKind::usage, what, option);
 }
 
-bool finite_at_least_zero(double value) { return std::isfinite(value) && value >= 0; }
+bool finite_at_least_zero(double value) {
+    return std::isfinite(value) && value >= 0;
+}
 
 // Every check on the options, before the input is opened: nobody should wait through a read to
 // learn that an output cannot be written or an option makes no sense. Returns each output's format.
@@ -203,11 +215,15 @@ std::vector<MeshFormat> check_options(const std::string& input, const BuildOptio
     if (!o.report.empty()) paths.emplace_back("the report", o.report);
     check_distinct_files(paths);
     if (o.scan_bounds && (input == "-" || !std::filesystem::is_regular_file(input)))
-        usage_error("scan_bounds", "scanning the bounds reads the input twice, so it needs a regular file, not \"" + input + "\"");
+        usage_error("scan_bounds",
+                    "scanning the bounds reads the input twice, so it needs a regular file, not \"" + input + "\"");
     if (o.surface == SurfaceKind::sheet && o.placement != VertexPlacement::surface)
-        usage_error("placement", "vertices on the iso level are for the closed surface only: the sheet places them on the points");
-    if (o.iso && !finite_at_least_zero(*o.iso)) usage_error("iso", "the iso must be a number of points per cell, at least 0");
-    if (!finite_at_least_zero(o.simplify.error)) usage_error("simplify", "the simplification bound must be a length, at least 0");
+        usage_error("placement",
+                    "vertices on the iso level are for the closed surface only: the sheet places them on the points");
+    if (o.iso && !finite_at_least_zero(*o.iso))
+        usage_error("iso", "the iso must be a number of points per cell, at least 0");
+    if (!finite_at_least_zero(o.simplify.error))
+        usage_error("simplify", "the simplification bound must be a length, at least 0");
     if (!finite_at_least_zero(o.min_piece.value) || (o.min_piece.relative && o.min_piece.value > 1))
         usage_error("min_piece", "the smallest piece must be a length, or a fraction of the mesh diagonal from 0 to 1");
     if (o.threads < 0) usage_error("threads", "the thread count must be 0 (all cores) or more");
@@ -244,7 +260,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     // An empty mesh is no use and Draco cannot encode one: say so before any device work.
     const LasHeader& header = reader.header();
     if (header.point_count == 0)
-        throw_input_error(reader.stream().name(), "the header promises no point records (point count 0): nothing to mesh");
+        throw_input_error(reader.stream().name(),
+                          "the header promises no point records (point count 0): nothing to mesh");
     if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
     ComputeDevice device(o.device);
     r.input = reader.stream().name();
@@ -254,9 +271,11 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                  std::to_string(reader.header().point_format) + ", " + std::to_string(reader.header().point_count) +
                  " points promised");
     watch.detail("device         " + r.device + " (" + device.info().platform + "), " +
-                 megabytes(device.info().global_memory) + " memory, largest buffer " + megabytes(device.info().max_alloc));
+                 megabytes(device.info().global_memory) + " memory, largest buffer " +
+                 megabytes(device.info().max_alloc));
     accumulate.on_slice = [&](std::uint64_t points) {
-        watch.points_read(points, reader.header().point_count, reader.stream().raw_position(), reader.stream().raw_size());
+        watch.points_read(points, reader.header().point_count, reader.stream().raw_position(),
+                          reader.stream().raw_size());
     };
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
     DensityGrid grid = accumulate_density(reader, device, accumulate);
@@ -273,15 +292,15 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     if (has_color(reader.header()) && !grid.has_color())
         r.warnings.push_back("note: " + r.input + ": the colour of every point is 0 (black): the mesh has no colour");
     if (double(r.median_count) > too_coarse_points_per_cell)
-        r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " + std::to_string(r.grid.dims[1]) +
-                             " x " + std::to_string(r.grid.dims[2]) + " cells of " + four_digits(r.grid.cell_size) +
-                             ") is far too coarse for these points: its " + std::to_string(r.occupied_cells) +
-                             " occupied cells hold a median of " + std::to_string(r.median_count) +
+        r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " +
+                             std::to_string(r.grid.dims[1]) + " x " + std::to_string(r.grid.dims[2]) + " cells of " +
+                             four_digits(r.grid.cell_size) + ") is far too coarse for these points: its " +
+                             std::to_string(r.occupied_cells) + " occupied cells hold a median of " +
+                             std::to_string(r.median_count) +
                              " points each; a finer --grid, or --bounds around each part of the data, resolves them");
     watch.stage_ended(BuildStage::read_accumulate, r);
-    watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " +
-                 megabytes(r.pool_bytes) + " of bricks in " +
-                 two_digits(r.read_accumulate) + " s");
+    watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " + megabytes(r.pool_bytes) +
+                 " of bricks in " + two_digits(r.read_accumulate) + " s");
 
     watch.stage_started(BuildStage::extract, "extracting the surface");
     const auto extract_start = std::chrono::steady_clock::now();
@@ -291,7 +310,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.surface = o.surface;
     r.placement = o.placement;
     // The sheet releases the grid's cells as soon as it no longer reads them.
-    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso) : extract_isosurface(grid, r.iso, o.placement);
+    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso)
+                                                : extract_isosurface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();
     grid = DensityGrid{}; // not needed any more: the writers get its memory
     watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(r.iso));
@@ -300,7 +320,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     SimplifyOptions simplify;
     simplify.error = o.simplify.in_cells ? o.simplify.error * r.grid.cell_size : o.simplify.error;
     simplify.lock_border = o.simplify.lock_border;
-    if (simplify.error > 0) watch.stage_started(BuildStage::extract, "simplifying " + std::to_string(mesh.triangles.size()) + " triangles");
+    if (simplify.error > 0)
+        watch.stage_started(BuildStage::extract, "simplifying " + std::to_string(mesh.triangles.size()) + " triangles");
     r.simplify = simplify_mesh(mesh, simplify);
     if (simplify.error > 0)
         watch.detail("simplified     " + std::to_string(r.simplify.triangles_before) + " to " +
@@ -308,7 +329,8 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                      " in " + two_digits(r.simplify.seconds) + " s");
     r.input = reader.stream().name();
     if (mesh.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
-    if (!o.normals) mesh.normals.clear();
+    if (!o.normals)
+        mesh.normals.clear();
     else if (mesh.normals.empty()) {
         watch.stage_started(BuildStage::extract, "computing normals");
         compute_vertex_normals(mesh); // the extraction gave none

@@ -1,22 +1,22 @@
 // SPDX-License-Identifier: Apache-2.0
 // Accumulation on the OpenCL device (PoCL in CI) against hand-worked cases and a plain reference
 // written here, for every slicing, colour depth and grid edge case.
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
+#include "grid/opencl_device.hpp" // internal: build_program
+#include "lasmesh/byte_order.hpp"
+#include "lasmesh/error.hpp"
 #include "lasmesh/grid/auto_grid.hpp"
 #include "lasmesh/grid/density_grid.hpp"
-#include "lasmesh/error.hpp"
-#include "cli/option_parsing.hpp" // the option text parsers, from the command line
-#include "lasmesh/byte_order.hpp"
 #include "lasmesh/read/las_point.hpp"
-#include "grid/opencl_device.hpp" // internal: build_program
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
-#include <bit>
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstring>
 #include <map>
-#include <cmath>
 
 using namespace lasmesh;
 using namespace lasmesh::cli;
@@ -29,7 +29,8 @@ using test::dense;
 // The same occupied bricks and cells, each with the same exact sums, positions included (the
 // records themselves may lie in `cells` in another order: the device's).
 bool sums_equal(const DensityGrid& a, const DensityGrid& b) {
-    if (a.brick_keys != b.brick_keys || a.brick_masks.size() != b.brick_masks.size() || a.cells.size() != b.cells.size())
+    if (a.brick_keys != b.brick_keys || a.brick_masks.size() != b.brick_masks.size() ||
+        a.cells.size() != b.cells.size())
         return false;
     bool equal = true;
     a.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
@@ -129,13 +130,13 @@ TEST_CASE("points at known positions: cell faces, the upper bound, and outside")
     test::TempDir dir;
     // Unit cells from the origin, 4 x 2 x 2 of them.
     const std::vector<lasgen::GeneratedPoint> points = {
-        at(0, 0, 0, {255, 0, 0}),      // the lower corner: cell (0,0,0)
-        at(1, 0, 0, {0, 255, 0}),      // on the face between cells 0 and 1: the upper cell
+        at(0, 0, 0, {255, 0, 0}), // the lower corner: cell (0,0,0)
+        at(1, 0, 0, {0, 255, 0}), // on the face between cells 0 and 1: the upper cell
         at(0.99, 1.5, 0.5, {0, 0, 255}),
-        at(4, 2, 2, {100, 100, 100}),  // exactly the upper bound: the last cell, not outside
+        at(4, 2, 2, {100, 100, 100}), // exactly the upper bound: the last cell, not outside
         at(3.5, 1.5, 1.5, {200, 200, 200}),
-        at(4.01, 0, 0),                // just above the grid: outside, never clamped
-        at(-0.01, 1, 1),               // just below: outside
+        at(4.01, 0, 0),  // just above the grid: outside, never clamped
+        at(-0.01, 1, 1), // just below: outside
     };
     test::write_file(dir.file("known.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
     const DensityGrid sparse = accumulate_file(dir.file("known.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
@@ -190,7 +191,8 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
         CHECK(sums_equal(g, whole));
     }
     AccumulateOptions small_alloc = options; // a device whose largest allocation is tiny
-    small_alloc.max_alloc = whole.brick_keys.size() * brick_device_bytes(true) + 4096; // just the pool: slices must shrink
+    small_alloc.max_alloc =
+        whole.brick_keys.size() * brick_device_bytes(true) + 4096; // just the pool: slices must shrink
     small_alloc.slice_bytes = 1 << 30;
     const DensityGrid g = accumulate_file(dir.file("deck.las"), small_alloc);
     CHECK(dense(g).count == dense(whole).count);
@@ -305,7 +307,8 @@ TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole 
             CellSums& sums = expected[cell];
             sums.count += 1;
             for (int a = 0; a < 3; ++a) {
-                sums.position[a] += static_cast<std::uint64_t>(raw[a] - whole.axes[a].starts[static_cast<std::size_t>(cell[a])]);
+                sums.position[a] +=
+                    static_cast<std::uint64_t>(raw[a] - whole.axes[a].starts[static_cast<std::size_t>(cell[a])]);
                 sums.color[a] += 65535;
             }
         }
@@ -474,7 +477,8 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
     CHECK(g.find(1, 0, 0) == nullptr); // same brick as (0,0,0), but no point: not kept
     CHECK(g.count(1, 0, 0) == 0);
     CHECK(g.brick_masks.size() == 1);
-    CHECK(g.brick_masks[0] == ((std::uint64_t{1} << 0) | (std::uint64_t{1} << ((1 * 4 + 1) * 4 + 3)))); // cells (0,0,0), (3,1,1)
+    CHECK(g.brick_masks[0] ==
+          ((std::uint64_t{1} << 0) | (std::uint64_t{1} << ((1 * 4 + 1) * 4 + 3)))); // cells (0,0,0), (3,1,1)
     CHECK(g.occupied_cells() == 2);
     CHECK(g.find(4, 0, 0) == nullptr); // outside the grid
 }
@@ -541,8 +545,10 @@ TEST_CASE("points on the header's bounds are inside the grid, even where the sca
     test::TempDir dir;
     // 487881702 x 0.01 is 4878817.0200000005 in doubles: past a header maximum of 4878817.02.
     std::vector<lasgen::GeneratedPoint> points;
-    for (int i = 0; i <= 100; ++i) points.push_back(at(4878816.02 + i * 0.01, 100 + (i % 10) * 0.1, 10 + (i / 10) * 0.1));
-    test::write_file(dir.file("edge.las"), las_with_points(points, {4878816.02, 100, 10}, {4878817.02, 100.9, 11}, 8, 1, 0.01));
+    for (int i = 0; i <= 100; ++i)
+        points.push_back(at(4878816.02 + i * 0.01, 100 + (i % 10) * 0.1, 10 + (i / 10) * 0.1));
+    test::write_file(dir.file("edge.las"),
+                     las_with_points(points, {4878816.02, 100, 10}, {4878817.02, 100.9, 11}, 8, 1, 0.01));
     LasReader reader(dir.file("edge.las"));
     REQUIRE(reader.header().max[0] == 4878817.02);
     std::vector<std::byte> records(101 * reader.header().point_record_length);
@@ -598,8 +604,10 @@ HostSums host_sums(const std::string& path, const GridSpec& g) {
         bool inside = true;
         for (int a = 0; a < 3; ++a) {
             raw[a] = load_le<std::int32_t>(record + 4 * a);
-            if (raw[a] < starts[a].front() || raw[a] >= starts[a].back()) inside = false;
-            else while (raw[a] >= starts[a][static_cast<std::size_t>(cell[a]) + 1]) ++cell[a];
+            if (raw[a] < starts[a].front() || raw[a] >= starts[a].back())
+                inside = false;
+            else
+                while (raw[a] >= starts[a][static_cast<std::size_t>(cell[a]) + 1]) ++cell[a];
         }
         if (!inside) {
             ++sums.outside;
@@ -621,11 +629,14 @@ void check_against_host(const DensityGrid& g, const HostSums& expected) {
     std::size_t wrong = 0;
     for (const auto& [cell, sums] : expected.cells) {
         const CellSums* got = g.find(cell[0], cell[1], cell[2]);
-        const bool same = got && got->count == sums.count && got->position == sums.position && (!g.has_color() || got->color == sums.color);
+        const bool same = got && got->count == sums.count && got->position == sums.position &&
+                          (!g.has_color() || got->color == sums.color);
         if (!same && ++wrong <= 3) {
-            MESSAGE("cell " << cell[0] << " " << cell[1] << " " << cell[2] << ": expected count " << sums.count << ", position "
-                            << sums.position[0] << " " << sums.position[1] << " " << sums.position[2]);
-            if (got) MESSAGE("got count " << got->count << ", position " << got->position[0] << " " << got->position[1] << " " << got->position[2]);
+            MESSAGE("cell " << cell[0] << " " << cell[1] << " " << cell[2] << ": expected count " << sums.count
+                            << ", position " << sums.position[0] << " " << sums.position[1] << " " << sums.position[2]);
+            if (got)
+                MESSAGE("got count " << got->count << ", position " << got->position[0] << " " << got->position[1]
+                                     << " " << got->position[2]);
         }
     }
     CHECK(wrong == 0);
@@ -639,11 +650,13 @@ TEST_CASE("every cell's count, position and colour sums equal a plain host accum
         // In acquisition order, 40 records a cell: a run's y offsets add up to 0, its z offsets do not.
         std::vector<lasgen::GeneratedPoint> points;
         std::uint64_t state = 5;
-        auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
+        auto next = [&] {
+            return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+        };
         for (int cell = 0; cell < 300; ++cell)
             for (int k = 0; k < 40; ++k)
-                points.push_back(at((cell % 10) + 0.01 + 0.98 * next(), (cell / 10 % 6), (cell / 60) + 0.01 + 0.98 * next(),
-                                    {std::uint8_t(cell), std::uint8_t(k), 7}));
+                points.push_back(at((cell % 10) + 0.01 + 0.98 * next(), (cell / 10 % 6),
+                                    (cell / 60) + 0.01 + 0.98 * next(), {std::uint8_t(cell), std::uint8_t(k), 7}));
         test::write_file(dir.file("runs.las"), las_with_points(points, {0, 0, 0}, {10, 6, 5}, 16, 3, 0.001));
         const AccumulateOptions options = exact_grid({0, 0, 0}, 1, {10, 6, 5});
         const HostSums expected = host_sums(dir.file("runs.las"), *options.spec);
@@ -652,7 +665,8 @@ TEST_CASE("every cell's count, position and colour sums equal a plain host accum
         REQUIRE(expected.cells.begin()->second.position[2] > 0);
         check_against_host(accumulate_file(dir.file("runs.las"), options), expected);
     }
-    SUBCASE("a scene far from the origin (negative and large offsets), in slices of 7 and 4,096 records, bricks crossed") {
+    SUBCASE(
+        "a scene far from the origin (negative and large offsets), in slices of 7 and 4,096 records, bricks crossed") {
         lasgen::SceneOptions scene;
         scene.origin = {-431250.25, 6700200.5, -12.75};
         scene.noise = 0.03;

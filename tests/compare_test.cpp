@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Distances for `lasmesh compare`: exact point-triangle distances on hand-computed cases, the
 // searches against brute force, the statistics, surface sampling, and the PLY reader.
-#include "lasmesh/measure/compare.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/measure/mesh_distance.hpp"
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/ply_writer.hpp"
+#include "lasmesh/measure/compare.hpp"
+#include "lasmesh/measure/mesh_distance.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -19,11 +19,11 @@ using namespace lasmesh;
 
 TEST_CASE("point-triangle distance: hand-computed cases") {
     const Vec3 a{0, 0, 0}, b{4, 0, 0}, c{0, 3, 0};
-    CHECK(point_triangle_distance({1, 1, 2}, a, b, c) == doctest::Approx(2));      // above the inside
-    CHECK(point_triangle_distance({1, 1, -0.5}, a, b, c) == doctest::Approx(0.5)); // below
-    CHECK(point_triangle_distance({1, 1, 0}, a, b, c) == 0);                       // on it
-    CHECK(point_triangle_distance({-3, -4, 0}, a, b, c) == doctest::Approx(5));    // nearest a corner
-    CHECK(point_triangle_distance({6, 0, 0}, a, b, c) == doctest::Approx(2));      // past corner b
+    CHECK(point_triangle_distance({1, 1, 2}, a, b, c) == doctest::Approx(2));               // above the inside
+    CHECK(point_triangle_distance({1, 1, -0.5}, a, b, c) == doctest::Approx(0.5));          // below
+    CHECK(point_triangle_distance({1, 1, 0}, a, b, c) == 0);                                // on it
+    CHECK(point_triangle_distance({-3, -4, 0}, a, b, c) == doctest::Approx(5));             // nearest a corner
+    CHECK(point_triangle_distance({6, 0, 0}, a, b, c) == doctest::Approx(2));               // past corner b
     CHECK(point_triangle_distance({2, -1, 1}, a, b, c) == doctest::Approx(std::sqrt(2.0))); // edge ab
     // Beyond the hypotenuse bc (length 5): the point (4, 3, 0) is 12/5 from it.
     CHECK(point_triangle_distance({4, 3, 0}, a, b, c) == doctest::Approx(2.4));
@@ -48,7 +48,8 @@ TEST_CASE("nearest triangle and nearest point agree with brute force, near and f
     }
     std::vector<Point3f> points;
     for (int i = 0; i < 2000; ++i)
-        points.push_back({static_cast<float>(10 * unit(rng)), static_cast<float>(10 * unit(rng)), static_cast<float>(unit(rng))});
+        points.push_back(
+            {static_cast<float>(10 * unit(rng)), static_cast<float>(10 * unit(rng)), static_cast<float>(unit(rng))});
     const TriangleSearch triangles(mesh);
     const PointSearch cloud(points);
     auto to_vec = [](const Point3f& p) { return Vec3{p[0], p[1], p[2]}; };
@@ -57,8 +58,9 @@ TEST_CASE("nearest triangle and nearest point agree with brute force, near and f
         const Vec3 p{spread * (unit(rng) - 0.1), spread * (unit(rng) - 0.1), spread * (unit(rng) - 0.5)};
         double tri_best = INFINITY, point_best = INFINITY;
         for (const auto& t : mesh.triangles)
-            tri_best = std::min(tri_best, point_triangle_distance(p, to_vec(mesh.positions[t[0]]), to_vec(mesh.positions[t[1]]),
-                                                                  to_vec(mesh.positions[t[2]])));
+            tri_best =
+                std::min(tri_best, point_triangle_distance(p, to_vec(mesh.positions[t[0]]),
+                                                           to_vec(mesh.positions[t[1]]), to_vec(mesh.positions[t[2]])));
         for (const Point3f& s : points)
             point_best = std::min(point_best, std::hypot(p[0] - s[0], p[1] - s[1], p[2] - s[2]));
         CAPTURE(q);
@@ -78,8 +80,8 @@ TEST_CASE("distance statistics") {
     CHECK(s.median == 4); // nearest rank: the 5th of 10
     CHECK(s.p95 == 9);
     CHECK(s.max == 9);
-    CHECK(s.within_1_cell == doctest::Approx(0.3)); // 0, 1, 2
-    CHECK(s.within_2_cells == doctest::Approx(0.6)); // 0 .. 5: the limit itself counts as within
+    CHECK(s.within_1_cell == doctest::Approx(0.3));       // 0, 1, 2
+    CHECK(s.within_2_cells == doctest::Approx(0.6));      // 0 .. 5: the limit itself counts as within
     CHECK(s.mean_within_2_cells == doctest::Approx(2.5)); // the mean of 0 .. 5
     std::vector<double> none;
     CHECK(summarize(none, 1).count == 0);
@@ -166,7 +168,8 @@ TEST_CASE("PLY reader: lasmesh's own files, other writers' files, and bad ones")
                                              "property float x\nproperty float y\nproperty float z\nend_header\n"
                                              "\1\2\3")),
                          doctest::Contains("ends inside vertex 0 property x"), Error);
-    CHECK_THROWS_WITH_AS(read_ply(write_text("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n")),
-                         doctest::Contains("no x, y, z"), Error);
+    CHECK_THROWS_WITH_AS(
+        read_ply(write_text("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n")),
+        doctest::Contains("no x, y, z"), Error);
     CHECK_THROWS_AS(read_ply(dir.file("missing.ply")), Error);
 }

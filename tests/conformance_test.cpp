@@ -36,9 +36,11 @@ void check_close(const Vec3& got, const Vec3& expected) {
 
 } // namespace
 
-TEST_CASE("real LAS files: info --scan agrees with the independently measured manifest" * doctest::test_suite("shared")) {
+TEST_CASE("real LAS files: info --scan agrees with the independently measured manifest" *
+          doctest::test_suite("shared")) {
     const std::filesystem::path folder = test::shared_las_folder();
-    REQUIRE_MESSAGE(!folder.empty(), "../shared/data/las/MANIFEST.tsv is absent (the unit_shared test is skipped then)");
+    REQUIRE_MESSAGE(!folder.empty(),
+                    "../shared/data/las/MANIFEST.tsv is absent (the unit_shared test is skipped then)");
     const std::vector<Row> rows = read_manifest(folder);
     REQUIRE(rows.size() >= 30);
     int accepted = 0, refused = 0;

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Draco (.drc) and glTF (.glb) output: round trips through the Draco library within the
 // quantization step, exact colours, the local frame kept, deterministic bytes, refusals.
-#include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/gltf_reader.hpp"
-#include "lasmesh/io/draco_writer.hpp"
 #include "lasmesh/error.hpp"
+#include "lasmesh/io/draco_reader.hpp"
+#include "lasmesh/io/draco_writer.hpp"
+#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/io/srgb.hpp"
+#include "lasmesh/mesh/marching_cubes.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -35,13 +35,15 @@ Mesh torus_mesh(bool color = true) {
             for (std::uint32_t i = 0; i < n; ++i) {
                 const double ring = std::hypot(i + 0.5 - 16, j + 0.5 - 16) - 9;
                 const double field = 10 * (4 - std::hypot(ring, k + 0.5 - 16));
-                g.count[(std::uint64_t(k) * n + j) * n + i] = static_cast<std::uint64_t>(std::max(0.0, std::round(field)));
+                g.count[(std::uint64_t(k) * n + j) * n + i] =
+                    static_cast<std::uint64_t>(std::max(0.0, std::round(field)));
             }
     Mesh m = extract_isosurface(g, 5);
     m.normals.clear(); // the fixture is positions and colours; normals are tested in interop_test
     if (color)
         for (const auto& p : m.positions)
-            m.colors.push_back({static_cast<std::uint8_t>(int(p[0] * 37) % 256), static_cast<std::uint8_t>(int(p[1] * 53) % 256),
+            m.colors.push_back({static_cast<std::uint8_t>(int(p[0] * 37) % 256),
+                                static_cast<std::uint8_t>(int(p[1] * 53) % 256),
                                 static_cast<std::uint8_t>(int(p[2] * 71) % 256)});
     return m;
 }
@@ -51,8 +53,10 @@ double volume(const Mesh& m) {
     double v = 0;
     for (const auto& t : m.triangles) {
         const auto &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
-        v += (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) - double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-              double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0])) / 6;
+        v += (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+              double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+              double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0])) /
+             6;
     }
     return v;
 }
@@ -65,7 +69,7 @@ double chebyshev(const std::array<float, 3>& a, const std::array<float, 3>& b) {
 }
 
 struct Match {
-    double worst = 0;        // the largest distance (per axis) from a vertex to its nearest match
+    double worst = 0;         // the largest distance (per axis) from a vertex to its nearest match
     bool colors_match = true; // every decoded vertex has an original within `tolerance` of its colour
 };
 
@@ -79,7 +83,8 @@ Match match_vertices(const Mesh& decoded, const Mesh& original, double tolerance
             const double d = chebyshev(decoded.positions[i], original.positions[j]);
             best = std::min(best, d);
             // Vertices closer than a step cannot be told apart: any of them may have the colour.
-            if (d <= tolerance && !decoded.colors.empty() && decoded.colors[i] == original.colors[j]) color_found = true;
+            if (d <= tolerance && !decoded.colors.empty() && decoded.colors[i] == original.colors[j])
+                color_found = true;
         }
         result.worst = std::max(result.worst, best);
         if (!decoded.colors.empty() && !color_found) result.colors_match = false;
@@ -122,7 +127,9 @@ TEST_CASE("draco: sRGB to linear 16-bit and back is exact for every 8-bit value"
     for (int v = 0; v < 256; ++v) {
         CAPTURE(v);
         REQUIRE(linear16_to_srgb8(srgb8_to_linear16(static_cast<std::uint8_t>(v))) == v);
-        if (v > 0) REQUIRE(srgb8_to_linear16(static_cast<std::uint8_t>(v)) > srgb8_to_linear16(static_cast<std::uint8_t>(v - 1)));
+        if (v > 0)
+            REQUIRE(srgb8_to_linear16(static_cast<std::uint8_t>(v)) >
+                    srgb8_to_linear16(static_cast<std::uint8_t>(v - 1)));
     }
     CHECK(srgb8_to_linear16(0) == 0);
     CHECK(srgb8_to_linear16(255) == 65535);
@@ -142,7 +149,7 @@ TEST_CASE("draco: automatic position bits keep the step under a tenth of a cell"
     m.cell_size = 1e-4;
     CHECK(automatic_position_bits(m) == 16); // capped
     m.cell_size = 1000;
-    CHECK(automatic_position_bits(m) == 8);  // floor
+    CHECK(automatic_position_bits(m) == 8); // floor
     CHECK(position_bits(m, DracoOptions{12, 7}) == 12);
     CHECK_THROWS_AS(position_bits(m, DracoOptions{31, 7}), Error);
     CHECK_THROWS_AS(position_bits(m, DracoOptions{0, 11}), Error);

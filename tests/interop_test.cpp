@@ -2,8 +2,8 @@
 // Outputs other programs open (issue 13): normals in every format, the plain .glb (names,
 // double-sided material, origin in extras, 16-bit indices), Draco's scalar origin entries.
 #include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/io/draco_writer.hpp"
+#include "lasmesh/io/gltf_reader.hpp"
 #include "lasmesh/io/gltf_writer.hpp"
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/ply_writer.hpp"
@@ -30,8 +30,8 @@ Mesh sphere(int rings = 24, int segments = 48) {
     for (int r = 1; r < rings; ++r)
         for (int s = 0; s < segments; ++s) {
             const double theta = pi * r / rings, phi = 2 * pi * s / segments;
-            m.positions.push_back({float(1 + 2 * std::sin(theta) * std::cos(phi)), float(2 + 2 * std::sin(theta) * std::sin(phi)),
-                                   float(3 + 2 * std::cos(theta))});
+            m.positions.push_back({float(1 + 2 * std::sin(theta) * std::cos(phi)),
+                                   float(2 + 2 * std::sin(theta) * std::sin(phi)), float(3 + 2 * std::cos(theta))});
         }
     m.positions.push_back({1, 2, 1});
     const auto at = [&](int r, int s) { return std::uint32_t(1 + (r - 1) * segments + (s % segments)); };
@@ -49,7 +49,9 @@ Mesh sphere(int rings = 24, int segments = 48) {
     return m;
 }
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool has(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
 
 } // namespace
 
@@ -62,7 +64,8 @@ TEST_CASE("normals: unit, outward on a closed sphere, (0, 0, 1) for unused verti
     for (std::size_t i = 0; i + 1 < m.positions.size(); ++i) {
         const auto& n = m.normals[i];
         CHECK(std::hypot(n[0], n[1], n[2]) == doctest::Approx(1).epsilon(1e-6));
-        const double out[3] = {(m.positions[i][0] - 1) / 2.0, (m.positions[i][1] - 2) / 2.0, (m.positions[i][2] - 3) / 2.0};
+        const double out[3] = {(m.positions[i][0] - 1) / 2.0, (m.positions[i][1] - 2) / 2.0,
+                               (m.positions[i][2] - 3) / 2.0};
         CHECK(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0.99); // points where the triangles face
     }
     CHECK(m.normals.back() == std::array<float, 3>{0, 0, 1});
@@ -82,7 +85,8 @@ TEST_CASE("normals: PLY and Draco keep them") {
     REQUIRE(d.normals.size() == d.positions.size());
     for (std::size_t i = 0; i < d.positions.size(); ++i) { // Draco reorders: compare with the sphere's own
         const auto& n = d.normals[i];
-        const double out[3] = {(d.positions[i][0] - 1) / 2.0, (d.positions[i][1] - 2) / 2.0, (d.positions[i][2] - 3) / 2.0};
+        const double out[3] = {(d.positions[i][0] - 1) / 2.0, (d.positions[i][1] - 2) / 2.0,
+                               (d.positions[i][2] - 3) / 2.0};
         CHECK(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0.98);
     }
 }
@@ -124,7 +128,7 @@ TEST_CASE("glb: plain by default, named, double-sided, origin in extras, positio
     const Mesh back = read_glb(dir.file("p.glb"));
     CHECK(back.positions == m.positions); // exact: plain floats
     CHECK(back.normals == m.normals);
-    CHECK(back.colors == m.colors);       // sRGB -> linear 16-bit -> sRGB is exact
+    CHECK(back.colors == m.colors); // sRGB -> linear 16-bit -> sRGB is exact
     CHECK(back.triangles == m.triangles);
     CHECK(back.origin == m.origin);
     CHECK(back.cell_size == m.cell_size);
@@ -139,7 +143,8 @@ TEST_CASE("glb: plain by default, named, double-sided, origin in extras, positio
 TEST_CASE("glb: 32-bit indices above 65,535 vertices, Draco indices 16-bit below") {
     Mesh big = sphere(200, 400); // 79,602 vertices
     REQUIRE(big.positions.size() > 65535);
-    CHECK(has(test::glb_json(encode_glb(big, {})), "\"componentType\":5125,\"count\":" + std::to_string(3 * big.triangles.size())));
+    CHECK(has(test::glb_json(encode_glb(big, {})),
+              "\"componentType\":5125,\"count\":" + std::to_string(3 * big.triangles.size())));
     GltfOptions draco;
     draco.compression = GltfCompression::draco;
     const Mesh small = sphere();

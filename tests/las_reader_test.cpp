@@ -105,7 +105,8 @@ TEST_CASE("every LAS version and point format the generator writes reads back ex
             CHECK(h.vlrs[0].user_id == "lasmesh");
             CHECK(h.vlrs[0].description == "lasgen scene");
             CHECK(h.scale == Vec3{0.001, 0.001, 0.001});
-            CHECK(has_color(h) == (format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10));
+            CHECK(has_color(h) ==
+                  (format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10));
 
             // Every record decodes to the generated point, within half a quantisation step.
             const PointDecoder decoder(h);

@@ -33,14 +33,17 @@ using test::Row;
 
 std::filesystem::path shared_laz_folder() {
     const char* override_dir = std::getenv("LASMESH_SHARED");
-    const std::filesystem::path shared = override_dir ? std::filesystem::path(override_dir)
-                                                      : std::filesystem::path(LASMESH_SOURCE_DIR).parent_path() / "shared";
+    const std::filesystem::path shared = override_dir
+                                             ? std::filesystem::path(override_dir)
+                                             : std::filesystem::path(LASMESH_SOURCE_DIR).parent_path() / "shared";
     const std::filesystem::path folder = shared / "data" / "laz";
     return std::filesystem::exists(folder / "MANIFEST.tsv") ? folder : std::filesystem::path();
 }
 
 // The small real LAZ files in the repository (tests/data/laz, facts in its MANIFEST.tsv).
-std::filesystem::path repository_laz_folder() { return std::filesystem::path(LASMESH_SOURCE_DIR) / "tests" / "data" / "laz"; }
+std::filesystem::path repository_laz_folder() {
+    return std::filesystem::path(LASMESH_SOURCE_DIR) / "tests" / "data" / "laz";
+}
 
 using test::read_manifest;
 using test::split;
@@ -104,7 +107,8 @@ TEST_CASE("sha256 of known inputs") {
 
 TEST_CASE("real LAZ files decode to the independently measured records (SHA-256)" * doctest::test_suite("shared")) {
     const std::filesystem::path folder = shared_laz_folder();
-    REQUIRE_MESSAGE(!folder.empty(), "../shared/data/laz/MANIFEST.tsv is absent (the unit_shared test is skipped then)");
+    REQUIRE_MESSAGE(!folder.empty(),
+                    "../shared/data/laz/MANIFEST.tsv is absent (the unit_shared test is skipped then)");
     const std::vector<Row> rows = read_manifest(folder);
     REQUIRE(rows.size() >= 14);
     int matched = 0, refused = 0, unverified = 0;
@@ -124,7 +128,8 @@ TEST_CASE("real LAZ files decode to the independently measured records (SHA-256)
                 CHECK(std::to_string(h.point_count) == row.at("header_point_count"));
                 CHECK(std::to_string(h.vlrs.size()) == row.at("num_vlrs"));
                 // The twin (a path from the folder holding shared/) has the same header facts.
-                const std::filesystem::path twin = folder.parent_path().parent_path().parent_path() / row.at("twin_file");
+                const std::filesystem::path twin =
+                    folder.parent_path().parent_path().parent_path() / row.at("twin_file");
                 if (row.at("twin_file") != "-" && std::filesystem::exists(twin)) {
                     LasReader other(twin.string());
                     CHECK(other.header().point_count == h.point_count);
@@ -172,7 +177,8 @@ TEST_CASE("real LAZ files decode to the independently measured records (SHA-256)
         }
         if (d.sha256 == row.at("points_sha256")) ++matched;
     }
-    MESSAGE(matched << " LAZ files match their SHA-256, " << unverified << " unverifiable decoded, " << refused << " refused");
+    MESSAGE(matched << " LAZ files match their SHA-256, " << unverified << " unverifiable decoded, " << refused
+                    << " refused");
     CHECK(matched == 12); // every file decoded independently
 }
 
@@ -197,7 +203,8 @@ std::variant<test::Bytes, std::string> decode_or_error(const std::string& path) 
         LasReader reader(path);
         const std::size_t length = reader.header().point_record_length;
         test::Bytes all, buffer(length * 700);
-        while (std::size_t n = reader.read_records(buffer)) all.insert(all.end(), buffer.begin(), buffer.begin() + n * length);
+        while (std::size_t n = reader.read_records(buffer))
+            all.insert(all.end(), buffer.begin(), buffer.begin() + n * length);
         return all;
     } catch (const Error& e) {
         CHECK(e.kind() == ErrorKind::input);
@@ -227,8 +234,10 @@ TEST_CASE("every truncation and many damaged bytes of a LAZ file give a clean er
             const test::Bytes prefix(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(size));
             test::write_file(dir.file("cut.laz"), prefix);
             const auto plain = decode_or_error(dir.file("cut.laz"));
-            if (std::holds_alternative<test::Bytes>(plain)) CHECK(std::get<test::Bytes>(plain) == records);
-            else ++errors;
+            if (std::holds_alternative<test::Bytes>(plain))
+                CHECK(std::get<test::Bytes>(plain) == records);
+            else
+                ++errors;
             test::write_file(dir.file("cut.laz.gz"), gzip(prefix));
             const auto piped = decode_or_error(dir.file("cut.laz.gz"));
             if (std::holds_alternative<test::Bytes>(piped)) CHECK(std::get<test::Bytes>(piped) == records);
@@ -293,8 +302,9 @@ TEST_CASE("LAZ without points, and LAZ whose chunks hold more points than the he
             CAPTURE(with_table);
             test::Bytes empty(simple.begin(), simple.begin() + static_cast<std::ptrdiff_t>(points_at) + 8);
             store_le<std::uint32_t>(empty.data() + 107, 0);
-            store_le<std::int64_t>(empty.data() + points_at, static_cast<std::int64_t>(empty.size())); // the table: here
-            if (with_table) empty.resize(empty.size() + 8, std::byte{0});                                // version 0, 0 chunks
+            store_le<std::int64_t>(empty.data() + points_at,
+                                   static_cast<std::int64_t>(empty.size())); // the table: here
+            if (with_table) empty.resize(empty.size() + 8, std::byte{0});    // version 0, 0 chunks
             test::write_file(dir.file("empty.laz"), empty);
             LasReader from_file(dir.file("empty.laz"));
             CHECK(from_file.header().point_count == 0);
@@ -311,7 +321,8 @@ TEST_CASE("LAZ without points, and LAZ whose chunks hold more points than the he
         test::Bytes patched = test::read_file(copc);
         REQUIRE(load_le<std::uint64_t>(patched.data() + 247) == 1065);
         store_le<std::uint64_t>(patched.data() + 247, 1000);
-        if (load_le<std::uint32_t>(patched.data() + 107) != 0) store_le<std::uint32_t>(patched.data() + 107, 1000); // kept equal
+        if (load_le<std::uint32_t>(patched.data() + 107) != 0)
+            store_le<std::uint32_t>(patched.data() + 107, 1000); // kept equal
         test::write_file(dir.file("low.laz"), patched);
         LasReader full(copc), low(dir.file("low.laz"));
         const std::size_t length = full.header().point_record_length;

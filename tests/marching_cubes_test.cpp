@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Marching cubes on synthetic fields: closed, consistently oriented, outward-facing meshes with
 // the right topology, identical for any thread count.
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
+#include "lasmesh/error.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/marching_cubes_table.hpp"
-#include "lasmesh/error.hpp"
-#include "cli/option_parsing.hpp" // the option text parsers, from the command line
 
 #include <doctest/doctest.h>
 
@@ -35,10 +35,10 @@ DensityGrid field_grid(std::uint32_t n, const std::function<double(double, doubl
 }
 
 struct Topology {
-    bool closed = true;        // every edge has exactly two triangles
-    bool oriented = true;      // ... and they use it in opposite directions
-    bool degenerate = false;   // a triangle with zero area or repeated vertices
-    long euler = 0;            // V - E + F
+    bool closed = true;      // every edge has exactly two triangles
+    bool oriented = true;    // ... and they use it in opposite directions
+    bool degenerate = false; // a triangle with zero area or repeated vertices
+    long euler = 0;          // V - E + F
 };
 
 Topology topology(const Mesh& m) {
@@ -228,8 +228,8 @@ TEST_CASE("vertex colours weigh each cell's mean colour by its count") {
     REQUIRE(m.colors.size() == m.positions.size());
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
         const float x = m.positions[v][0];
-        if (x < 0.5f) CHECK(m.colors[v] == std::array<std::uint8_t, 3>{255, 0, 0});  // between padding and red
-        if (x > 1.5f) CHECK(m.colors[v] == std::array<std::uint8_t, 3>{0, 0, 255});  // between blue and padding
+        if (x < 0.5f) CHECK(m.colors[v] == std::array<std::uint8_t, 3>{255, 0, 0}); // between padding and red
+        if (x > 1.5f) CHECK(m.colors[v] == std::array<std::uint8_t, 3>{0, 0, 255}); // between blue and padding
     }
     CHECK(parse_iso("auto") < 0);
     CHECK(parse_iso("2.5") == 2.5);

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Removing small isolated pieces: a big sphere stays whole, a small far one goes, and what
 // stays is the same mesh as before, in the same order.
+#include "cli/option_parsing.hpp" // the option text parsers, from the command line
+#include "lasmesh/error.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
-#include "lasmesh/error.hpp"
-#include "cli/option_parsing.hpp" // the option text parsers, from the command line
 
 #include <doctest/doctest.h>
 
@@ -83,16 +83,17 @@ TEST_CASE("sheets that meet at an edge without sharing vertices are one piece; a
     m.cell_size = 0.1;
     const auto square = [&](std::array<float, 3> corner, std::array<float, 3> u, std::array<float, 3> v) {
         const auto at = [&](float a, float b) {
-            return std::array<float, 3>{corner[0] + a * u[0] + b * v[0], corner[1] + a * u[1] + b * v[1], corner[2] + a * u[2] + b * v[2]};
+            return std::array<float, 3>{corner[0] + a * u[0] + b * v[0], corner[1] + a * u[1] + b * v[1],
+                                        corner[2] + a * u[2] + b * v[2]};
         };
         const auto first = static_cast<std::uint32_t>(m.positions.size());
         for (const auto& p : {at(0, 0), at(1, 0), at(1, 1), at(0, 1)}) m.positions.push_back(p);
         m.triangles.push_back({first, first + 1, first + 2});
         m.triangles.push_back({first, first + 2, first + 3});
     };
-    square({0, 0, 0}, {2, 0, 0}, {0, 2, 0});      // floor
+    square({0, 0, 0}, {2, 0, 0}, {0, 2, 0});         // floor
     square({2.05f, 0, 0.05f}, {0, 2, 0}, {0, 0, 2}); // wall on its edge
-    square({8, 8, 0}, {0.5, 0, 0}, {0, 0.5, 0});   // far away
+    square({8, 8, 0}, {0.5, 0, 0}, {0, 0.5, 0});     // far away
     Mesh copy = m;
     const PieceCount count = remove_small_pieces(copy, parse_min_piece("3"));
     CHECK(count.pieces == 2); // floor and wall joined

@@ -132,7 +132,8 @@ TEST_CASE("same_file: by inode for existing files, by folder and name for new on
     CHECK_FALSE(same_file(dir.file("new.ply"), dir.file("other.ply")));
     CHECK_FALSE(same_file(dir.file("a.las"), dir.file("new.ply")));
 
-    CHECK_NOTHROW(check_distinct_files({{"the input", "-"}, {"-o", dir.file("x.ply")}, {"--report", dir.file("x.json")}}));
+    CHECK_NOTHROW(
+        check_distinct_files({{"the input", "-"}, {"-o", dir.file("x.ply")}, {"--report", dir.file("x.json")}}));
     try {
         check_distinct_files({{"the input", dir.file("a.las")}, {"-o", dir.file("hard.las")}});
         FAIL("no error");
@@ -175,12 +176,13 @@ TEST_CASE("header bounds no record can reach are refused, naming the field") {
     CHECK_NOTHROW(check_header_bounds_usable(h, "x.las"));
     h.min[1] = -1e300, h.max[1] = 1e300;
     CHECK_THROWS_WITH_AS(check_header_bounds_usable(h, "x.las"),
-                         doctest::Contains("header bounds min/max Y (bytes 195-210: -1e+300 to 1e+300) lie beyond"), Error);
+                         doctest::Contains("header bounds min/max Y (bytes 195-210: -1e+300 to 1e+300) lie beyond"),
+                         Error);
     h.scale = {1e300, 1e300, 1e300}; // reachable now, but wider than float positions
     CHECK_THROWS_WITH_AS(check_header_bounds_usable(h, "x.las"), doctest::Contains("float positions"), Error);
     GridRequest request;
-    CHECK_THROWS_WITH_AS(make_grid_spec({{-1e308, 0, 0}, {1e308, 1, 1}}, request), doctest::Contains("too wide to grid"),
-                         Error);
+    CHECK_THROWS_WITH_AS(make_grid_spec({{-1e308, 0, 0}, {1e308, 1, 1}}, request),
+                         doctest::Contains("too wide to grid"), Error);
 }
 
 TEST_CASE("--grid auto: the cell from the density, clamped, and too few points refused") {
@@ -191,8 +193,8 @@ TEST_CASE("--grid auto: the cell from the density, clamped, and too few points r
     CHECK(flat.reason.find("288 cells") != std::string::npos);
     CHECK(choose_grid(1000, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_min_cells);
     CHECK(choose_grid(1'000'000'000'000, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_max_cells);
-    CHECK_THROWS_WITH_AS(choose_grid(99, {{0, 0, 0}, {1, 1, 1}}, "x.las"), doctest::Contains("too few to outline a surface"),
-                         Error);
+    CHECK_THROWS_WITH_AS(choose_grid(99, {{0, 0, 0}, {1, 1, 1}}, "x.las"),
+                         doctest::Contains("too few to outline a surface"), Error);
 }
 
 TEST_CASE("compare refuses what it cannot measure instead of printing numbers") {

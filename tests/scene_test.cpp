@@ -21,8 +21,8 @@ TEST_CASE("generated points depend only on seed and index") {
 }
 
 TEST_CASE("every point lies inside the scene bounds") {
-    for (auto kind : {lasgen::SceneKind::sphere, lasgen::SceneKind::box, lasgen::SceneKind::torus,
-                      lasgen::SceneKind::deck}) {
+    for (auto kind :
+         {lasgen::SceneKind::sphere, lasgen::SceneKind::box, lasgen::SceneKind::torus, lasgen::SceneKind::deck}) {
         lasgen::SceneOptions o;
         o.kind = kind;
         o.noise = 0.05;

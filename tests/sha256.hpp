@@ -11,12 +11,12 @@
 namespace test {
 
 class Sha256 {
-public:
+  public:
     Sha256();
     void add(std::span<const std::byte> bytes);
     std::string hex(); // finishes; lower-case hex digest
 
-private:
+  private:
     void block(const std::uint8_t* p);
     std::array<std::uint32_t, 8> h_;
     std::array<std::uint8_t, 64> buffer_{};

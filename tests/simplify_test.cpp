@@ -58,7 +58,8 @@ Mesh marched_sphere() {
             for (std::uint32_t i = 0; i < n; ++i) {
                 const double h = g.spec.cell_size;
                 const double r = std::hypot(-2.5 + (i + 0.5) * h, -2.5 + (j + 0.5) * h, -2.5 + (k + 0.5) * h);
-                g.count[(std::uint64_t(k) * n + j) * n + i] = static_cast<std::uint64_t>(std::max(0.0, std::round(100 * (2 - r) + 50)));
+                g.count[(std::uint64_t(k) * n + j) * n + i] =
+                    static_cast<std::uint64_t>(std::max(0.0, std::round(100 * (2 - r) + 50)));
             }
     Mesh m = extract_isosurface(g, 50, VertexPlacement::iso);
     for (std::size_t i = 0; i < m.positions.size(); ++i)
@@ -74,7 +75,8 @@ const Mesh& deck_sheet() {
         test::TempDir dir;
         lasgen::SceneOptions options;
         options.origin = {0, 0, 0};
-        test::write_file(dir.file("d.las"), test::make_las(lasgen::LasLayout{}, lasgen::make_scene(options), 200000, 11));
+        test::write_file(dir.file("d.las"),
+                         test::make_las(lasgen::LasLayout{}, lasgen::make_scene(options), 200000, 11));
         AccumulateOptions grid;
         grid.grid = GridRequest::longest(128);
         const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
@@ -85,7 +87,9 @@ const Mesh& deck_sheet() {
     return mesh;
 }
 
-Vec3 vec(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
+Vec3 vec(const std::array<float, 3>& p) {
+    return {p[0], p[1], p[2]};
+}
 
 // Edges used by more than two triangles, or twice in the same direction (a flipped neighbour).
 std::size_t bad_edges(const Mesh& m) {
@@ -103,7 +107,9 @@ std::size_t bad_edges(const Mesh& m) {
 }
 
 // The bound, and the rounding of distances worked out in double from float positions.
-double within(double bound) { return bound * (1 + 1e-6) + 1e-9; }
+double within(double bound) {
+    return bound * (1 + 1e-6) + 1e-9;
+}
 
 } // namespace
 
@@ -211,7 +217,8 @@ TEST_CASE("simplify: a deck's sheets at half a cell, flip-free and the same for 
     std::map<std::array<float, 3>, std::array<std::uint8_t, 3>> color_of;
     for (std::size_t i = 0; i < original.positions.size(); ++i) color_of[original.positions[i]] = original.colors[i];
     bool colours_kept = m.colors.size() == m.positions.size();
-    for (std::size_t i = 0; i < m.positions.size() && colours_kept; ++i) colours_kept = color_of.at(m.positions[i]) == m.colors[i];
+    for (std::size_t i = 0; i < m.positions.size() && colours_kept; ++i)
+        colours_kept = color_of.at(m.positions[i]) == m.colors[i];
     CHECK(colours_kept);
     const double far = test::farthest_from(original, test::dense_samples(m, bound / 4), 2 * bound);
     const double back = test::farthest_from(m, test::dense_samples(original, bound / 4), 2 * bound);
@@ -240,7 +247,8 @@ TEST_CASE("simplify: an open sheet keeps its faces up") {
         bool up = true;
         for (const auto& t : m.triangles) {
             const auto &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
-            up = up && (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]) > 0;
+            up =
+                up && (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]) > 0;
         }
         CHECK(up);
         CHECK(bad_edges(m) == 0);

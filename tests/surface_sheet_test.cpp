@@ -2,8 +2,8 @@
 // One sheet per scanned surface: placed on the points (below the cell), one sheet for a thin
 // plate scanned from both sides, closed and consistently oriented where the surface is closed,
 // and the same mesh for any number of threads.
-#include "lasmesh/mesh/surface_sheet.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
+#include "lasmesh/mesh/surface_sheet.hpp"
 
 #include <doctest/doctest.h>
 
@@ -39,8 +39,10 @@ std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeUse> edge_uses(const Mesh&
     for (const auto& t : m.triangles)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-            if (a < b) ++uses[{a, b}].forward;
-            else ++uses[{b, a}].backward;
+            if (a < b)
+                ++uses[{a, b}].forward;
+            else
+                ++uses[{b, a}].backward;
         }
     return uses;
 }
@@ -101,13 +103,14 @@ TEST_CASE("a sphere's scan gives one closed, oriented sheet on the points, half 
     const double mean = total / static_cast<double>(sheet.positions.size());
     CAPTURE(mean / h);
     CAPTURE(worst / h);
-    CHECK(mean < 0.05 * h);  // the closed surface sits about half a cell off
+    CHECK(mean < 0.05 * h); // the closed surface sits about half a cell off
     CHECK(worst < 0.25 * h);
     // Outward, every normal: a sphere has no "up" to go by.
     std::size_t inward = 0;
     for (std::size_t v = 0; v < sheet.positions.size(); ++v) {
         double along = 0;
-        for (int a = 0; a < 3; ++a) along += (sheet.origin[a] + sheet.positions[v][a] - centre[a]) * sheet.normals[v][a];
+        for (int a = 0; a < 3; ++a)
+            along += (sheet.origin[a] + sheet.positions[v][a] - centre[a]) * sheet.normals[v][a];
         inward += along <= 0;
     }
     CHECK(inward == 0);
@@ -148,7 +151,7 @@ TEST_CASE("a thin plate scanned from both sides is one sheet between its faces")
     CHECK(area > 95);
     CHECK(area < (10 + h) * (10 + h) * 1.02);
     for (const auto& p : sheet.positions) REQUIRE(std::abs(sheet.origin[2] + p[2] - 0.3) < 0.0101); // between the faces
-    for (const auto& n : sheet.normals) REQUIRE(n[2] > 0.99); // facing up
+    for (const auto& n : sheet.normals) REQUIRE(n[2] > 0.99);                                       // facing up
     int boundary = 0;
     for (const auto& [edge, use] : edge_uses(sheet)) {
         REQUIRE(use.forward + use.backward <= 2);
@@ -192,12 +195,20 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
     double edge_gap = 0;
     std::vector<const char*> grids{"160", "320"};
     SUBCASE("not scanned under the boxes") {}
-    SUBCASE("scanned under the boxes") { scanned_under = true, grids = {"160"}; }
-    SUBCASE("edges unscanned") { edge_gap = 0.1, grids = {"160"}; }
+    SUBCASE("scanned under the boxes") {
+        scanned_under = true, grids = {"160"};
+    }
+    SUBCASE("edges unscanned") {
+        edge_gap = 0.1, grids = {"160"};
+    }
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 11;
-    auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
-    struct Box { double x0, y0, x1, y1, top; };
+    auto next = [&] {
+        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+    };
+    struct Box {
+        double x0, y0, x1, y1, top;
+    };
     const std::vector<Box> boxes{{4, 3, 10, 5.5, 2.6}, {4, 7, 10, 9.5, 2.6}};
     while (points.size() < 200000) {
         const double x = 20 * next(), y = 12 * next();
@@ -208,8 +219,10 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
     for (const Box& b : boxes)
         for (int i = 0; i < 60000; ++i) {
             const double u = next(), v = next();
-            const double along = i % 5 < 3 ? u * (b.x1 - b.x0) : u * (b.y1 - b.y0), length = i % 5 < 3 ? b.x1 - b.x0 : b.y1 - b.y0;
-            const double up = i % 5 == 0 ? std::min(v * (b.y1 - b.y0), (1 - v) * (b.y1 - b.y0)) : std::min(v * b.top, (1 - v) * b.top);
+            const double along = i % 5 < 3 ? u * (b.x1 - b.x0) : u * (b.y1 - b.y0),
+                         length = i % 5 < 3 ? b.x1 - b.x0 : b.y1 - b.y0;
+            const double up = i % 5 == 0 ? std::min(v * (b.y1 - b.y0), (1 - v) * (b.y1 - b.y0))
+                                         : std::min(v * b.top, (1 - v) * b.top);
             if (std::min({along, length - along, up}) < edge_gap) continue;
             switch (i % 5) {
             case 0: points.push_back(point(b.x0 + u * (b.x1 - b.x0), b.y0 + v * (b.y1 - b.y0), b.top)); break;
@@ -239,10 +252,13 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
                 near_box = true;
                 const double cx = (b.x0 + b.x1) / 2, cy = (b.y0 + b.y1) / 2;
                 const bool inner = x > b.x0 + 0.2 && x < b.x1 - 0.2 && y > b.y0 + 0.2 && y < b.y1 - 0.2;
-                if (z > b.top - 0.2 && inner) ++roofs, wrong_roofs += n[2] <= 0;
-                else if (z > 0.5 && z < b.top - 0.2 && !inner) ++walls, wrong_walls += (x - cx) * n[0] + (y - cy) * n[1] <= 0;
+                if (z > b.top - 0.2 && inner)
+                    ++roofs, wrong_roofs += n[2] <= 0;
+                else if (z > 0.5 && z < b.top - 0.2 && !inner)
+                    ++walls, wrong_walls += (x - cx) * n[0] + (y - cy) * n[1] <= 0;
             }
-            if (!near_box && z < 0.2 && x > 0.3 && x < 19.7 && y > 0.3 && y < 11.7) ++deck, wrong_deck += n[2] <= 0; // off its border
+            if (!near_box && z < 0.2 && x > 0.3 && x < 19.7 && y > 0.3 && y < 11.7)
+                ++deck, wrong_deck += n[2] <= 0; // off its border
         }
         CAPTURE(walls);
         CAPTURE(roofs);
@@ -260,7 +276,9 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
     const double big = 2, small = 0.6;
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 5;
-    auto next = [&] { return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53); };
+    auto next = [&] {
+        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+    };
     while (points.size() < 150000) {
         const double u = 2 * std::numbers::pi * next(), t = 2 * std::numbers::pi * next();
         if (next() * (big + small) > big + small * std::cos(t)) continue; // uniform by area
@@ -268,7 +286,8 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
         points.push_back(point(4 + rho * std::cos(u), 4 + rho * std::sin(u), 1 + small * std::sin(t)));
     }
     test::TempDir dir;
-    test::write_file(dir.file("torus.las"), test::las_with_points(points, {1.4, 1.4, 0.4}, {6.6, 6.6, 1.6}, 8, 3, 0.001));
+    test::write_file(dir.file("torus.las"),
+                     test::las_with_points(points, {1.4, 1.4, 0.4}, {6.6, 6.6, 1.6}, 8, 3, 0.001));
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(96);
     const DensityGrid g = test::accumulate_file(dir.file("torus.las"), grid);

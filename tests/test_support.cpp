@@ -11,11 +11,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <sstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
-#include <unordered_map>
 #include <unistd.h>
+#include <unordered_map>
 
 namespace test {
 
@@ -92,7 +92,8 @@ DenseGrid dense(const lasmesh::DensityGrid& grid) {
         const std::uint64_t index = (c[2] * grid.spec.dims[1] + c[1]) * grid.spec.dims[0] + c[0];
         d.count[index] = grid.cells[r].count;
         if (grid.has_color())
-            d.red[index] = grid.cells[r].color[0], d.green[index] = grid.cells[r].color[1], d.blue[index] = grid.cells[r].color[2];
+            d.red[index] = grid.cells[r].color[0], d.green[index] = grid.cells[r].color[1],
+            d.blue[index] = grid.cells[r].color[2];
     });
     return d;
 }
@@ -117,19 +118,25 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
         g.scale[a] = spec.cell_size / 1000;
         g.offset[a] = spec.origin[a];
         g.axes[a] = lasmesh::axis_cells(spec, a, g.scale[a], g.offset[a]);
-        g.bricks[a] = static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
+        g.bricks[a] =
+            static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
     }
     // Brick by brick in ascending order, each brick's occupied cells in the order of their bits.
     for (std::uint64_t key = 0; key < std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2]; ++key) {
         std::array<lasmesh::CellSums, DensityGrid::brick_cells> brick{};
         for (unsigned bit = 0; bit < DensityGrid::brick_cells; ++bit) {
             const auto c = g.cell_in_brick(key, bit);
-            if (c[0] >= std::int64_t{spec.dims[0]} || c[1] >= std::int64_t{spec.dims[1]} || c[2] >= std::int64_t{spec.dims[2]}) continue;
-            const std::uint64_t index = (std::uint64_t(c[2]) * spec.dims[1] + std::uint64_t(c[1])) * spec.dims[0] + std::uint64_t(c[0]);
+            if (c[0] >= std::int64_t{spec.dims[0]} || c[1] >= std::int64_t{spec.dims[1]} ||
+                c[2] >= std::int64_t{spec.dims[2]})
+                continue;
+            const std::uint64_t index =
+                (std::uint64_t(c[2]) * spec.dims[1] + std::uint64_t(c[1])) * spec.dims[0] + std::uint64_t(c[0]);
             lasmesh::CellSums& cell = brick[bit];
             cell.count = count[index];
             for (int a = 0; a < 3; ++a) // every point at the cell's centre
-                cell.position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[std::size_t(c[a]) + 1] - g.axes[a].starts[std::size_t(c[a])]) / 2);
+                cell.position[a] = count[index] * static_cast<std::uint64_t>((g.axes[a].starts[std::size_t(c[a]) + 1] -
+                                                                              g.axes[a].starts[std::size_t(c[a])]) /
+                                                                             2);
             if (g.color) cell.color = {red[index], green[index], blue[index]};
             g.points_read += count[index];
         }
@@ -150,8 +157,8 @@ lasmesh::ComputeDevice& device() {
 }
 
 // A LAS 1.2 format-3 file (format 1 without colour) holding exactly `points`.
-Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const lasmesh::Vec3& min, const lasmesh::Vec3& max,
-                      int color_bits, int format, double scale) {
+Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const lasmesh::Vec3& min,
+                      const lasmesh::Vec3& max, int color_bits, int format, double scale) {
     lasgen::LasLayout layout;
     layout.point_format = format;
     layout.color_bits = color_bits;
@@ -159,7 +166,8 @@ Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const l
     Bytes file = lasgen::las_file_head(layout, points.size(), min, max, "fixture");
     const std::size_t head = file.size(), length = lasgen::record_length(layout);
     file.resize(head + points.size() * length);
-    for (std::size_t i = 0; i < points.size(); ++i) lasgen::encode_record(layout, points[i], i, file.data() + head + i * length);
+    for (std::size_t i = 0; i < points.size(); ++i)
+        lasgen::encode_record(layout, points[i], i, file.data() + head + i * length);
     return file;
 }
 
@@ -200,10 +208,16 @@ namespace {
 
 using lasmesh::Vec3;
 
-Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 minus(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot3(const Vec3& a, const Vec3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
-Vec3 corner(const lasmesh::Mesh& m, std::uint32_t v) { return {m.positions[v][0], m.positions[v][1], m.positions[v][2]}; }
+Vec3 corner(const lasmesh::Mesh& m, std::uint32_t v) {
+    return {m.positions[v][0], m.positions[v][1], m.positions[v][2]};
+}
 
 // The distance from p to triangle abc: the closest point by the regions of the triangle's
 // Voronoi diagram (Ericson, "Real-Time Collision Detection", 5.1.5).
@@ -248,7 +262,8 @@ std::vector<Vec3> dense_samples(const lasmesh::Mesh& mesh, double spacing) {
         for (int i = 0; i <= n; ++i)
             for (int j = 0; i + j <= n; ++j) {
                 const double v = double(i) / n, w = double(j) / n;
-                points.push_back({a[0] + (b[0] - a[0]) * v + (c[0] - a[0]) * w, a[1] + (b[1] - a[1]) * v + (c[1] - a[1]) * w,
+                points.push_back({a[0] + (b[0] - a[0]) * v + (c[0] - a[0]) * w,
+                                  a[1] + (b[1] - a[1]) * v + (c[1] - a[1]) * w,
                                   a[2] + (b[2] - a[2]) * v + (c[2] - a[2]) * w});
             }
     }
@@ -260,7 +275,8 @@ double farthest_from(const lasmesh::Mesh& surface, const std::vector<Vec3>& poin
     const double reach = window;
     double edges = 0;
     for (const auto& t : surface.triangles)
-        edges += std::sqrt(dot3(minus(corner(surface, t[0]), corner(surface, t[1])), minus(corner(surface, t[0]), corner(surface, t[1]))));
+        edges += std::sqrt(dot3(minus(corner(surface, t[0]), corner(surface, t[1])),
+                                minus(corner(surface, t[0]), corner(surface, t[1]))));
     window = std::max(window, edges / std::max<std::size_t>(1, surface.triangles.size()));
     // Triangles filed by the cells (of edge `window`) their box, grown by `window`, meets.
     struct Hash {
@@ -274,7 +290,9 @@ double farthest_from(const lasmesh::Mesh& surface, const std::vector<Vec3>& poin
         std::array<std::int64_t, 3> lo{}, hi{};
         for (int a = 0; a < 3; ++a) {
             double low = 1e300, high = -1e300;
-            for (const std::uint32_t v : surface.triangles[f]) low = std::min(low, double(surface.positions[v][a])), high = std::max(high, double(surface.positions[v][a]));
+            for (const std::uint32_t v : surface.triangles[f])
+                low = std::min(low, double(surface.positions[v][a])),
+                high = std::max(high, double(surface.positions[v][a]));
             lo[a] = cell_of(low - window), hi[a] = cell_of(high + window);
         }
         for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
@@ -288,7 +306,8 @@ double farthest_from(const lasmesh::Mesh& surface, const std::vector<Vec3>& poin
         if (found != cells.end())
             for (const std::uint32_t f : found->second) {
                 const auto& t = surface.triangles[f];
-                nearest = std::min(nearest, triangle_distance(p, corner(surface, t[0]), corner(surface, t[1]), corner(surface, t[2])));
+                nearest = std::min(
+                    nearest, triangle_distance(p, corner(surface, t[0]), corner(surface, t[1]), corner(surface, t[2])));
             }
         farthest = std::max(farthest, nearest > reach ? std::numeric_limits<double>::infinity() : nearest);
     }

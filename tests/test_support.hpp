@@ -18,7 +18,7 @@ using Bytes = std::vector<std::byte>;
 
 // A fresh folder under the system temp folder, removed with everything in it at scope exit.
 class TempDir {
-public:
+  public:
     TempDir();
     ~TempDir();
     TempDir(const TempDir&) = delete;
@@ -26,7 +26,7 @@ public:
     std::filesystem::path path() const { return path_; }
     std::string file(const std::string& name) const { return (path_ / name).string(); }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 
@@ -61,7 +61,8 @@ DenseGrid dense(const lasmesh::DensityGrid& grid);
 // A sparse grid holding the given per-cell counts (and colour sums when `red` is not empty),
 // every cell's points at its centre; for extraction tests that need no device.
 lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
-                                      const std::vector<std::uint64_t>& red = {}, const std::vector<std::uint64_t>& green = {},
+                                      const std::vector<std::uint64_t>& red = {},
+                                      const std::vector<std::uint64_t>& green = {},
                                       const std::vector<std::uint64_t>& blue = {}, std::uint32_t color_max_word = 255);
 
 // Per-cell counts and colour sums written as dense arrays (x fastest), turned into the sparse
@@ -77,8 +78,8 @@ struct DenseCells {
 lasmesh::ComputeDevice& device();
 
 // A LAS 1.2 format-3 file (format 1 without colour) holding exactly `points`.
-Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const lasmesh::Vec3& min, const lasmesh::Vec3& max,
-                      int color_bits = 8, int format = 3, double scale = 0.01);
+Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const lasmesh::Vec3& min,
+                      const lasmesh::Vec3& max, int color_bits = 8, int format = 3, double scale = 0.01);
 
 // Every record of the LAS file at `path` accumulated on device().
 lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options = {});

@@ -57,13 +57,14 @@ int main() {
     for (std::byte& x : random_a) x = std::byte(random() & 0xFF);
     for (std::byte& x : random_b) x = std::byte(random() & 0xFF);
     std::uint32_t sink = 0; // printed, so the decoding is not optimised away
-    std::printf("| stream | model symbols | one after the other, ns/symbol | in turn, ns/symbol | speed-up |\n|---|---|---|---|---|\n");
+    std::printf("| stream | model symbols | one after the other, ns/symbol | in turn, ns/symbol | speed-up "
+                "|\n|---|---|---|---|---|\n");
     for (const bool predictable : {false, true}) {
         for (const std::uint32_t symbols : {4u, 64u, 256u}) {
             double best_sequential = 1e300, best_in_turn = 1e300;
             for (int round = 0; round < 3; ++round) {
-                const auto [sequential, in_turn] =
-                    predictable ? time_decoding(zeros, zeros, symbols, sink) : time_decoding(random_a, random_b, symbols, sink);
+                const auto [sequential, in_turn] = predictable ? time_decoding(zeros, zeros, symbols, sink)
+                                                               : time_decoding(random_a, random_b, symbols, sink);
                 best_sequential = std::min(best_sequential, sequential);
                 best_in_turn = std::min(best_in_turn, in_turn);
             }

@@ -28,7 +28,9 @@ using namespace lasmesh;
 
 namespace {
 
-double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+double cpu_seconds() {
+    return double(std::clock()) / CLOCKS_PER_SEC;
+}
 
 double quantile(std::vector<double> v, double q) {
     if (v.empty()) return 0;
@@ -41,7 +43,8 @@ double quantile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: simplify_bench MESH.ply ERROR_IN_CELLS [--threads N] [--runs N] [--lock-border] [--time-only] [-o OUT.ply]\n");
+        std::fprintf(stderr, "usage: simplify_bench MESH.ply ERROR_IN_CELLS [--threads N] [--runs N] [--lock-border] "
+                             "[--time-only] [-o OUT.ply]\n");
         return 1;
     }
     const std::string path = argv[1];
@@ -51,14 +54,20 @@ int main(int argc, char** argv) {
     std::string out;
     for (int i = 3; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (a == "--runs" && i + 1 < argc) runs = std::atoi(argv[++i]);
-        else if (a == "--lock-border") lock = true;
-        else if (a == "--time-only") time_only = true;
-        else if (a == "-o" && i + 1 < argc) out = argv[++i];
+        if (a == "--threads" && i + 1 < argc)
+            threads = std::atoi(argv[++i]);
+        else if (a == "--runs" && i + 1 < argc)
+            runs = std::atoi(argv[++i]);
+        else if (a == "--lock-border")
+            lock = true;
+        else if (a == "--time-only")
+            time_only = true;
+        else if (a == "-o" && i + 1 < argc)
+            out = argv[++i];
     }
     std::unique_ptr<tbb::global_control> limit;
-    if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+    if (threads > 0)
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
     const Mesh original = read_ply(path);
     const double cell = original.cell_size > 0 ? original.cell_size : 1;
@@ -100,7 +109,8 @@ int main(int argc, char** argv) {
         if (back.back() > farthest) farthest = back.back(), worst_back = p;
     }
     if (std::getenv("SIMPLIFY_BENCH_WORST"))
-        std::fprintf(stderr, "original farthest from the simplified: %g %g %g\n", worst_back[0], worst_back[1], worst_back[2]);
+        std::fprintf(stderr, "original farthest from the simplified: %g %g %g\n", worst_back[0], worst_back[1],
+                     worst_back[2]);
     std::printf("{\"triangles_before\": %zu, \"triangles_after\": %zu, \"error_cells\": %g, \"seconds\": %.3f, "
                 "\"cpu_seconds\": %.3f, \"triangles_per_second\": %.0f, \"flipped\": %zu, \"new_bad_edges\": %zu, "
                 "\"zero_area\": %zu, \"zero_area_before\": %zu, \"simplified_to_original_max\": %.3f, "

@@ -34,8 +34,8 @@
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/mesh/marching_cubes.hpp"
 #include "lasmesh/mesh/mesh_pieces.hpp"
-#include "lasmesh/mesh/surface_sheet.hpp"
 #include "lasmesh/mesh/simplify.hpp"
+#include "lasmesh/mesh/surface_sheet.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -55,11 +55,11 @@ enum class MeshFormat {
 // that it cannot be written; the file appears complete or not at all (see io/output_file.hpp).
 struct OutputRequest {
     std::string path;
-    std::optional<MeshFormat> format; // default: from the extension (.ply, .drc, .glb)
-    bool ascii = false; // ply only
-    DracoOptions draco; // draco, and glb with GltfCompression::draco
+    std::optional<MeshFormat> format;                        // default: from the extension (.ply, .drc, .glb)
+    bool ascii = false;                                      // ply only
+    DracoOptions draco;                                      // draco, and glb with GltfCompression::draco
     GltfCompression glb_compression = GltfCompression::none; // glb only: plain opens everywhere
-    GltfOrigin glb_origin = GltfOrigin::extras;               // glb only: translation node or not
+    GltfOrigin glb_origin = GltfOrigin::extras;              // glb only: translation node or not
 };
 
 // How far simplification may move the surface: a length in the file's units, or in cells.
@@ -73,22 +73,22 @@ struct SimplifyRequest {
 };
 
 struct BuildOptions {
-    GridRequest grid;                  // default: chosen from the data; or GridRequest::longest(N), cells(...), cell_edge(E)
-    std::optional<Bounds> bounds;      // the region to grid; default: the header bounds
-    bool scan_bounds = false;          // read a file twice, first for its points' real bounds
-    std::optional<double> iso;         // points per cell at the surface; default: automatic_iso
+    GridRequest grid;             // default: chosen from the data; or GridRequest::longest(N), cells(...), cell_edge(E)
+    std::optional<Bounds> bounds; // the region to grid; default: the header bounds
+    bool scan_bounds = false;     // read a file twice, first for its points' real bounds
+    std::optional<double> iso;    // points per cell at the surface; default: automatic_iso
     SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface; // closed surfaces only
-    MinPiece min_piece;                // default: 5% of the mesh diagonal
-    SimplifyRequest simplify;          // default: half a cell (see SimplifyRequest)
-    bool normals = true;               // per-vertex normals in every output
-    std::string device = "auto";       // "auto" (a GPU if any), an index or part of a name
-    int threads = 0;                   // extraction threads; 0: all cores
-    std::uint64_t slice_bytes = 0;     // largest upload to the device; 0: 16 MiB
-    std::uint64_t max_memory = 0;      // refuse grids needing more (host and device); 0: no limit
+    MinPiece min_piece;                                   // default: 5% of the mesh diagonal
+    SimplifyRequest simplify;                             // default: half a cell (see SimplifyRequest)
+    bool normals = true;                                  // per-vertex normals in every output
+    std::string device = "auto";                          // "auto" (a GPU if any), an index or part of a name
+    int threads = 0;                                      // extraction threads; 0: all cores
+    std::uint64_t slice_bytes = 0;                        // largest upload to the device; 0: 16 MiB
+    std::uint64_t max_memory = 0;                         // refuse grids needing more (host and device); 0: no limit
     std::vector<OutputRequest> outputs;
-    std::string report;                // also write the RunReport as JSON here (run_report_json); empty: none
-    bool keep_mesh = false;            // return the mesh in BuildResult (it can be large)
+    std::string report;     // also write the RunReport as JSON here (run_report_json); empty: none
+    bool keep_mesh = false; // return the mesh in BuildResult (it can be large)
 };
 
 // Everything a run measured, in the order of the command line's --report JSON.
@@ -99,23 +99,23 @@ struct OutputReport {
 };
 
 struct RunReport {
-    std::string input, device;         // the input's name ("standard input" for -), the device's
+    std::string input, device; // the input's name ("standard input" for -), the device's
     std::uint64_t points_read = 0, points_outside = 0;
     std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
-    std::string grid_reason;           // why this grid, when it was chosen from the data; empty otherwise
+    std::string grid_reason; // why this grid, when it was chosen from the data; empty otherwise
     double iso = 0;
     bool iso_auto = false;
     SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface;
     std::uint64_t occupied_cells = 0, occupied_bricks = 0, pool_bytes = 0; // the sparse grid
-    std::uint64_t median_count = 0;    // the median points in an occupied cell
+    std::uint64_t median_count = 0;                                        // the median points in an occupied cell
     std::uint64_t host_grid_bytes = 0; // the grid as the host keeps it: occupied cells only
     PieceCount pieces;
-    SimplifyReport simplify;           // triangles before and after, the bound in file units, seconds
+    SimplifyReport simplify; // triangles before and after, the bound in file units, seconds
     std::size_t vertices = 0, triangles = 0;
     bool colored = false, normals = false;
-    Vec3 origin{};                     // output positions are relative to it
+    Vec3 origin{}; // output positions are relative to it
     std::vector<OutputReport> outputs;
     double read_accumulate = 0, extract = 0, write = 0, total = 0; // seconds (extract includes simplify)
     std::uint64_t peak_rss_bytes = 0;

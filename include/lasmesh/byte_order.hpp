@@ -8,8 +8,7 @@
 
 namespace lasmesh {
 
-static_assert(std::endian::native == std::endian::little,
-              "lasmesh reads little-endian LAS fields with plain copies");
+static_assert(std::endian::native == std::endian::little, "lasmesh reads little-endian LAS fields with plain copies");
 
 template <typename T>
 inline T load_le(const std::byte* at) {

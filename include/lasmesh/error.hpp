@@ -18,7 +18,7 @@ enum class ErrorKind {
 // Thrown for every failure a user can act on. The message is one line that names the file,
 // the byte offset or record where known, what was expected and what was found.
 class Error : public std::runtime_error {
-public:
+  public:
     // `option`: the field of the options the error is about ("scan_bounds", "outputs"), so that a
     // front end can name its own spelling of it (the command line's flag); empty when none is.
     Error(ErrorKind kind, const std::string& message, std::string option = {});
@@ -26,7 +26,7 @@ public:
     int exit_code() const noexcept { return static_cast<int>(kind_); }
     const std::string& option() const noexcept { return option_; }
 
-private:
+  private:
     ErrorKind kind_;
     std::string option_;
 };

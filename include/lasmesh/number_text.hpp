@@ -39,7 +39,9 @@ inline std::string significant(double value, int digits) {
 }
 
 // Four significant digits, for lengths and other measured values people read (0.1191, 977.5).
-inline std::string four_digits(double value) { return significant(value, 4); }
+inline std::string four_digits(double value) {
+    return significant(value, 4);
+}
 
 inline std::string two_digits(double value) {
     std::ostringstream text;

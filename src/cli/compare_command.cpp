@@ -5,15 +5,15 @@
 #include "progress.hpp"
 
 #include "io/json.hpp"
-#include "lasmesh/measure/compare.hpp"
+#include "lasmesh/error.hpp"
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/io/gltf_reader.hpp"
-#include "lasmesh/error.hpp"
-#include "lasmesh/number_text.hpp"
 #include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/same_file.hpp"
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/ply_writer.hpp"
+#include "lasmesh/io/same_file.hpp"
+#include "lasmesh/measure/compare.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -32,7 +32,8 @@ Mesh read_mesh(const std::string& path) {
 }
 
 Json stats_json(const DistanceStats& s) {
-    Json json = {{"mean", s.mean}, {"std", s.std}, {"median", s.median}, {"p95", s.p95}, {"p99", s.p99}, {"max", s.max}};
+    Json json = {{"mean", s.mean}, {"std", s.std}, {"median", s.median},
+                 {"p95", s.p95},   {"p99", s.p99}, {"max", s.max}};
     if (s.within_1_cell >= 0) {
         json["within_1_cell"] = s.within_1_cell;
         json["within_2_cells"] = s.within_2_cells;
@@ -42,8 +43,8 @@ Json stats_json(const DistanceStats& s) {
 }
 
 void print_stats(std::ostream& out, const char* name, const DistanceStats& s) {
-    out << name << "mean " << s.mean << ", std " << s.std << ", median " << s.median << ", p95 " << s.p95
-        << ", p99 " << s.p99 << ", max " << s.max;
+    out << name << "mean " << s.mean << ", std " << s.std << ", median " << s.median << ", p95 " << s.p95 << ", p99 "
+        << s.p99 << ", max " << s.max;
     if (s.within_1_cell >= 0)
         out << "; within 1 cell " << 100 * s.within_1_cell << "%, 2 cells " << 100 * s.within_2_cells
             << "% (mean of those " << s.mean_within_2_cells << ")";
@@ -66,7 +67,8 @@ std::string verdict(const CompareResult& r) {
 CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     CLI::App* c = app.add_subcommand("compare", "Distances between a mesh and the point cloud it came from, both ways");
     c->add_option("MESH", o.mesh, "Mesh: .ply (lasmesh's or any triangle PLY), or lasmesh's .drc or .glb")->required();
-    c->add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
+    c->add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+        ->required();
     c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
         ->capture_default_str()
         ->check(whole_number(1, std::uint64_t{1} << 34));
@@ -76,11 +78,13 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
         ->check(positive_number());
     c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud");
-    c->add_option("--heatmap-scale", o.heatmap_scale, "Distance shown red in the heat map (default: 2 cells, or the p99)")
+    c->add_option("--heatmap-scale", o.heatmap_scale,
+                  "Distance shown red in the heat map (default: 2 cells, or the p99)")
         ->check(positive_number());
     c->add_flag("--json", o.json, "One JSON object instead of text");
-    c->footer("Examples:\n  lasmesh compare deck.ply deck.las\n  lasmesh compare deck.drc deck.las --json --samples 1000000\n"
-              "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
+    c->footer(
+        "Examples:\n  lasmesh compare deck.ply deck.las\n  lasmesh compare deck.drc deck.las --json --samples 1000000\n"
+        "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
     return c;
 }
 
@@ -127,14 +131,15 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
     if (!o.heatmap.empty()) {
         std::vector<double> sorted = r.vertex_distance;
         const double scale = o.heatmap_scale > 0 ? o.heatmap_scale
-                             : r.cell_size > 0  ? 2 * r.cell_size
-                                                : summarize(sorted, 0).p99;
+                             : r.cell_size > 0   ? 2 * r.cell_size
+                                                 : summarize(sorted, 0).p99;
         mesh.colors.resize(mesh.positions.size());
-        for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.colors[v] = heat_color(r.vertex_distance[v], scale);
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+            mesh.colors[v] = heat_color(r.vertex_distance[v], scale);
         write_ply(mesh, o.heatmap, false);
         log << "heat map       " << o.heatmap << ": blue 0, cyan " << four_digits(scale / 4) << ", green "
-            << four_digits(scale / 2) << ", yellow " << four_digits(3 * scale / 4) << ", red "
-            << four_digits(scale) << " and beyond (distance from each vertex to the nearest point)\n";
+            << four_digits(scale / 2) << ", yellow " << four_digits(3 * scale / 4) << ", red " << four_digits(scale)
+            << " and beyond (distance from each vertex to the nearest point)\n";
     }
 }
 

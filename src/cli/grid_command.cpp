@@ -52,17 +52,17 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     }
     out << "device               " << device.info().name << " (" << device.info().type << ")\n"
         << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
-        << " cells of " << four_digits(grid.spec.cell_size) << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")")
-        << "\n"
+        << " cells of " << four_digits(grid.spec.cell_size)
+        << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")") << "\n"
         << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
         << " " << format_double(grid.spec.origin[2]) << "\n"
         << "points read          " << grid.points_read << "\n"
         << "points outside grid  " << grid.points_outside << " (" << std::fixed << std::setprecision(3)
         << 100 * outside_share << "%)\n"
         << "occupied cells       " << occupied << " of " << grid.spec.cell_count() << "\n"
-        << "occupied bricks      " << grid.brick_keys.size() << " of " << DensityGrid::brick_cells << " cells: "
-        << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device, " << grid.host_bytes() / 1e6
-        << " MB on the host (occupied cells only)\n"
+        << "occupied bricks      " << grid.brick_keys.size() << " of " << DensityGrid::brick_cells
+        << " cells: " << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device, "
+        << grid.host_bytes() / 1e6 << " MB on the host (occupied cells only)\n"
         << "most points in cell  " << fullest << "\n"
         << "colour               " << depth << "\n"
         << "read + accumulate    " << std::setprecision(3) << seconds << " s\n";

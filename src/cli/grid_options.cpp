@@ -12,34 +12,50 @@
 namespace lasmesh::cli {
 
 void add_grid_options(CLI::App& command, GridOptions& o) {
-    command.add_option("--grid", o.grid, "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
+    command
+        .add_option(
+            "--grid", o.grid,
+            "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
         ->capture_default_str();
-    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)")->check(positive_number());
+    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)")
+        ->check(positive_number());
     CLI::Option* bounds =
         command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
-    command.add_flag("--scan-bounds", o.scan_bounds,
-                     "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
-                     "then to grid them; files only, not standard input")
+    command
+        .add_flag("--scan-bounds", o.scan_bounds,
+                  "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
+                  "then to grid them; files only, not standard input")
         ->excludes(bounds);
-    command.add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
+    command
+        .add_option("--device", o.device,
+                    "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
         ->capture_default_str();
-    command.add_option("--chunk-mb", o.chunk_mb, "Largest slice of records uploaded at once, MiB (default 16, "
-                                                 "always under the device's largest allocation)")
+    command
+        .add_option("--chunk-mb", o.chunk_mb,
+                    "Largest slice of records uploaded at once, MiB (default 16, "
+                    "always under the device's largest allocation)")
         ->check(positive_number());
-    command.add_option("--max-memory", o.max_memory_mb, "Refuse grids needing more than this, MiB, host and device together")
+    command
+        .add_option("--max-memory", o.max_memory_mb,
+                    "Refuse grids needing more than this, MiB, host and device together")
         ->check(positive_number());
 }
 
 namespace {
 
-bool grid_is_auto(const GridOptions& o) { return !o.voxel && o.grid == "auto"; } // --grid auto, no --voxel
+// --grid auto, and no --voxel.
+bool grid_is_auto(const GridOptions& o) {
+    return !o.voxel && o.grid == "auto";
+}
 
 } // namespace
 
 AccumulateOptions accumulate_options(const GridOptions& o) {
     AccumulateOptions a;
-    if (o.voxel) a.grid = voxel_request(*o.voxel);
-    else if (!grid_is_auto(o)) a.grid = parse_grid_request(o.grid); // auto: the default request
+    if (o.voxel)
+        a.grid = voxel_request(*o.voxel);
+    else if (!grid_is_auto(o))
+        a.grid = parse_grid_request(o.grid); // auto: the default request
     if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);

@@ -12,7 +12,7 @@
 namespace lasmesh::cli {
 
 struct GridOptions {
-    std::string grid = "auto"; // as the library's default GridRequest
+    std::string grid = "auto";   // as the library's default GridRequest
     std::optional<double> voxel; // given: checked, even when 0 or negative
     std::string bounds;
     bool scan_bounds = false;

@@ -25,8 +25,10 @@ std::string escaped(const std::string& raw) {
     static const char* hex = "0123456789abcdef";
     std::string text;
     for (unsigned char c : raw) {
-        if (c >= 0x20 && c < 0x7F) text += static_cast<char>(c);
-        else text += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+        if (c >= 0x20 && c < 0x7F)
+            text += static_cast<char>(c);
+        else
+            text += std::string("\\x") + hex[c >> 4] + hex[c & 15];
     }
     return text;
 }
@@ -39,8 +41,10 @@ std::string join_scaled(const Vec3& v, const Vec3& scale) {
         const double step = scale[a] > 0 && std::isfinite(scale[a]) ? scale[a] : 1;
         const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 0, 12);
         std::ostringstream number;
-        if (std::isfinite(v[a]) && std::abs(v[a]) < 1e15) number << std::fixed << std::setprecision(decimals) << v[a];
-        else number << format_double(v[a]);
+        if (std::isfinite(v[a]) && std::abs(v[a]) < 1e15)
+            number << std::fixed << std::setprecision(decimals) << v[a];
+        else
+            number << format_double(v[a]);
         text += (a ? " " : "") + number.str();
     }
     return text;
@@ -59,7 +63,8 @@ bool is_copc(const LasHeader& h) {
 
 std::string records_text(const LasHeader& h) {
     if (!h.compressed) return "LAS (uncompressed)";
-    return is_copc(h) ? "LAZ (LASzip-compressed), COPC (cloud-optimised: chunks in an octree)" : "LAZ (LASzip-compressed)";
+    return is_copc(h) ? "LAZ (LASzip-compressed), COPC (cloud-optimised: chunks in an octree)"
+                      : "LAZ (LASzip-compressed)";
 }
 
 void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
@@ -92,30 +97,25 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
     const InputStream& in = reader.stream();
     out << "input                " << in.name();
     if (in.compression() != Compression::none) out << " (" << compression_name(in.compression()) << ")";
-    out << "\nversion              " << version_string(h)
-        << "\nrecords              " << records_text(h)
-        << "\npoint format         " << int(h.point_format) << " (" << h.point_record_length
-        << "-byte records, " << core_record_size(h.point_format) << " core + "
-        << h.point_record_length - core_record_size(h.point_format) << " extra)"
-        << "\npoint count          " << h.point_count
-        << "\nhas color            " << (has_color(h) ? "yes" : "no")
-        << "\nscale                " << join(h.scale)
-        << "\noffset               " << join(h.offset)
-        << "\nbounds min           " << join_scaled(h.min, h.scale)
-        << "\nbounds max           " << join_scaled(h.max, h.scale)
-        << "\nsystem identifier    " << escaped(h.system_identifier)
-        << "\ngenerating software  " << escaped(h.generating_software)
-        << "\nVLRs                 " << h.vlrs.size() << '\n';
+    out << "\nversion              " << version_string(h) << "\nrecords              " << records_text(h)
+        << "\npoint format         " << int(h.point_format) << " (" << h.point_record_length << "-byte records, "
+        << core_record_size(h.point_format) << " core + " << h.point_record_length - core_record_size(h.point_format)
+        << " extra)"
+        << "\npoint count          " << h.point_count << "\nhas color            " << (has_color(h) ? "yes" : "no")
+        << "\nscale                " << join(h.scale) << "\noffset               " << join(h.offset)
+        << "\nbounds min           " << join_scaled(h.min, h.scale) << "\nbounds max           "
+        << join_scaled(h.max, h.scale) << "\nsystem identifier    " << escaped(h.system_identifier)
+        << "\ngenerating software  " << escaped(h.generating_software) << "\nVLRs                 " << h.vlrs.size()
+        << '\n';
     for (const Vlr& vlr : h.vlrs)
         out << "  " << escaped(vlr.user_id) << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
             << escaped(vlr.description) << '\n';
     if (scan) {
-        out << "scanned point count  " << scan->point_count
-            << "\nscanned bounds min   " << join_scaled(scan->min, h.scale)
-            << "\nscanned bounds max   " << join_scaled(scan->max, h.scale) << '\n';
+        out << "scanned point count  " << scan->point_count << "\nscanned bounds min   "
+            << join_scaled(scan->min, h.scale) << "\nscanned bounds max   " << join_scaled(scan->max, h.scale) << '\n';
         if (scan->has_color)
-            out << "scanned color min    " << join(scan->color_min)
-                << "\nscanned color max    " << join(scan->color_max) << '\n';
+            out << "scanned color min    " << join(scan->color_min) << "\nscanned color max    "
+                << join(scan->color_max) << '\n';
     }
 }
 

@@ -38,8 +38,10 @@ KernelCache::KernelCache() {
     const char* xdg = std::getenv("XDG_CACHE_HOME");
     const char* home = std::getenv("HOME");
     std::filesystem::path folder;
-    if (xdg && *xdg) folder = xdg;
-    else if (home && *home) folder = std::filesystem::path(home) / ".cache";
+    if (xdg && *xdg)
+        folder = xdg;
+    else if (home && *home)
+        folder = std::filesystem::path(home) / ".cache";
     if (!folder.empty()) {
         folder /= "lasmesh/pocl";
         if (writable_folder(folder)) {
@@ -62,7 +64,8 @@ KernelCache::~KernelCache() {
 
 std::string KernelCache::problem() const {
     rlimit limit{};
-    if (::getrlimit(RLIMIT_FSIZE, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= compiler_file_bytes)
+    if (::getrlimit(RLIMIT_FSIZE, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY ||
+        limit.rlim_cur >= compiler_file_bytes)
         return "";
     const char* folder = std::getenv("POCL_CACHE_DIR");
     return "the file size limit (ulimit -f) of " + mebibytes(limit.rlim_cur) + " is below the " +

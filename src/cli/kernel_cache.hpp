@@ -10,7 +10,7 @@ namespace lasmesh::cli {
 // unless the user set it; where that folder cannot be written, at a temporary one of this run,
 // removed when this is destroyed.
 class KernelCache {
-public:
+  public:
     KernelCache();
     ~KernelCache();
     KernelCache(const KernelCache&) = delete;
@@ -20,7 +20,7 @@ public:
     // OpenCL compiler writes (LLVM then ends the process itself, with exit code 1).
     std::string problem() const;
 
-private:
+  private:
     std::string temporary_; // the run's own folder, when the lasting one cannot be written
 };
 

@@ -6,11 +6,11 @@
 #include "grid_command.hpp"
 #include "info_command.hpp"
 #include "kernel_cache.hpp"
+#include "lasmesh/error.hpp"
 #include "mesh_command.hpp"
 #include "option_parsing.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
-#include "lasmesh/error.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
     info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
                          "  xzcat deck.las.xz | lasmesh info -");
-    info_command->add_option("INPUT", info.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+    info_command
+        ->add_option("INPUT", info.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
         ->required();
     info_command->add_flag("--json", info.json, "One JSON object instead of text");
     info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
@@ -59,9 +60,12 @@ int main(int argc, char** argv) {
         ->check(lasmesh::cli::whole_number(1, std::uint64_t{1} << 30));
 
     lasmesh::cli::GridCommandOptions grid;
-    CLI::App* grid_command = app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
+    CLI::App* grid_command =
+        app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
     grid_command->footer("Examples:\n  lasmesh grid deck.las --grid 512\n  lasmesh grid deck.las --voxel 0.05 --json");
-    grid_command->add_option("INPUT", grid.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")->required();
+    grid_command
+        ->add_option("INPUT", grid.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+        ->required();
     lasmesh::cli::add_grid_options(*grid_command, grid.grid);
     grid_command->add_flag("--json", grid.json, "One JSON object instead of text");
 
@@ -99,7 +103,9 @@ int main(int argc, char** argv) {
             lasmesh::cli::run_mesh(mesh, std::cerr);
         }
         std::cout.flush();
-        if (!std::cout) throw lasmesh::Error(lasmesh::ErrorKind::output, "cannot write to standard output (closed pipe or full disk?)");
+        if (!std::cout)
+            throw lasmesh::Error(lasmesh::ErrorKind::output,
+                                 "cannot write to standard output (closed pipe or full disk?)");
         return 0;
     } catch (const lasmesh::Error& e) {
         std::cerr << "lasmesh: " << e.what() << lasmesh::cli::flag_hint(e.option(), e.what()) << '\n';

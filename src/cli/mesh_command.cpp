@@ -8,9 +8,9 @@
 #include "mesh_report.hpp"
 #include "option_parsing.hpp"
 
-#include <map>
 #include <algorithm>
 #include <charconv>
+#include <map>
 
 namespace lasmesh::cli {
 
@@ -25,7 +25,8 @@ CLI::Validator draco_bits_check() {
             int bits = 0;
             const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), bits);
             if (ec != std::errc() || end != text.data() + text.size() || bits < 1 || bits > 24)
-                return "expected 1 to 24 bits, got \"" + text + "\" (Draco needs about 4 * 2^bits bytes: 1 GB at 28 "
+                return "expected 1 to 24 bits, got \"" + text +
+                       "\" (Draco needs about 4 * 2^bits bytes: 1 GB at 28 "
                        "bits; 24 already resolve 1/16,000,000 of the mesh's extent)";
             return "";
         },
@@ -89,7 +90,8 @@ BuildOptions build_options(const MeshOptions& o) {
     BuildOptions b;
     const GltfCompression glb_compression = parse_glb_compression(o.glb_compression);
     const GltfOrigin glb_origin = parse_glb_origin(o.glb_origin);
-    for (const std::string& path : o.outputs) b.outputs.push_back({path, std::nullopt, o.ascii, o.draco, glb_compression, glb_origin});
+    for (const std::string& path : o.outputs)
+        b.outputs.push_back({path, std::nullopt, o.ascii, o.draco, glb_compression, glb_origin});
     b.report = o.report;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
@@ -120,7 +122,8 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     context.simplify_text = o.simplify;
     context.any_draco = std::any_of(options.outputs.begin(), options.outputs.end(), [](const OutputRequest& out) {
         const std::optional<MeshFormat> format = format_from_extension(out.path);
-        return format == MeshFormat::draco || (format == MeshFormat::glb && out.glb_compression == GltfCompression::draco);
+        return format == MeshFormat::draco ||
+               (format == MeshFormat::glb && out.glb_compression == GltfCompression::draco);
     });
     options.keep_mesh = context.any_draco && !o.quiet; // the Draco line reports bits and step of the mesh
     MeshObserver observer(summary, o.progress, o.verbose, o.quiet);

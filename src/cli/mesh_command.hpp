@@ -26,7 +26,7 @@ struct MeshOptions {
     std::string glb_origin = "extras";
     bool ascii = false;
     DracoOptions draco; // for .drc and .glb outputs
-    int threads = 0; // 0: all cores
+    int threads = 0;    // 0: all cores
     std::string report; // --report FILE.json
     bool quiet = false, verbose = false;
     bool progress = false; // draw a progress line (set when stderr is a terminal)

@@ -11,7 +11,7 @@
 namespace lasmesh::cli {
 
 class MeshObserver : public BuildObserver {
-public:
+  public:
     MeshObserver(std::ostream& out, bool progress, bool verbose, bool quiet);
 
     void stage_started(BuildStage stage, const std::string& what) override;
@@ -22,7 +22,7 @@ public:
 
     void clear() { progress_.clear(); } // before the summary
 
-private:
+  private:
     std::ostream& out_;
     Progress progress_;
     bool verbose_, quiet_;

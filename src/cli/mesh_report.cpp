@@ -3,8 +3,8 @@
 #include "mesh_report.hpp"
 
 #include "io/json.hpp"
-#include "lasmesh/number_text.hpp"
 #include "lasmesh/io/output_file.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -30,9 +30,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "points         " << r.points_read << " read, " << r.points_outside << " outside the grid\n"
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
             << four_digits(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
-            << "iso            " << four_digits(r.iso) << (r.iso_auto ? " (auto)" : "")
-            << " points per cell, "
-            << (r.surface == SurfaceKind::sheet ? "one sheet through the points"
+            << "iso            " << four_digits(r.iso) << (r.iso_auto ? " (auto)" : "") << " points per cell, "
+            << (r.surface == SurfaceKind::sheet       ? "one sheet through the points"
                 : r.placement == VertexPlacement::iso ? "closed, vertices on the iso level"
                                                       : "closed, vertices on the surface")
             << "\n"

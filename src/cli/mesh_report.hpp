@@ -14,7 +14,7 @@ namespace lasmesh::cli {
 struct SummaryContext {
     std::string min_piece_text; // "5%": quoted when the threshold is relative
     bool relative_min_piece = true;
-    std::string simplify_text; // "0.5cell"
+    std::string simplify_text;  // "0.5cell"
     const Mesh* mesh = nullptr; // for the Draco line: bits and step depend on the mesh
     DracoOptions draco;
     bool any_draco = false;

@@ -2,8 +2,8 @@
 // Option text parsers: strict (the whole text must be used) and quoting the text in each error.
 #include "option_parsing.hpp"
 
-#include "lasmesh/number_text.hpp"
 #include "lasmesh/error.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -15,13 +15,16 @@ namespace lasmesh::cli {
 
 namespace {
 
-[[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
+[[noreturn]] void usage_error(const std::string& what) {
+    throw Error(ErrorKind::usage, what);
+}
 
 std::uint32_t parse_cells(const std::string& part, const std::string& whole) {
     std::uint32_t value = 0;
     auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
     if (ec != std::errc() || end != part.data() + part.size() || value == 0 || value > max_grid_cells)
-        usage_error("--grid \"" + whole + "\": expected N or NXxNYxNZ with whole numbers from 1 to " + std::to_string(max_grid_cells) + " (cells per axis)");
+        usage_error("--grid \"" + whole + "\": expected N or NXxNYxNZ with whole numbers from 1 to " +
+                    std::to_string(max_grid_cells) + " (cells per axis)");
     return value;
 }
 
@@ -39,7 +42,8 @@ GridRequest parse_grid_request(const std::string& text) {
     if (second == std::string::npos || text.find('x', second + 1) != std::string::npos)
         usage_error("--grid \"" + text + "\": expected N or NXxNYxNZ, e.g. 256 or 512x256x128");
     request.kind = GridRequest::Kind::explicit_dims;
-    request.dims = {parse_cells(text.substr(0, first), text), parse_cells(text.substr(first + 1, second - first - 1), text),
+    request.dims = {parse_cells(text.substr(0, first), text),
+                    parse_cells(text.substr(first + 1, second - first - 1), text),
                     parse_cells(text.substr(second + 1), text)};
     return request;
 }
@@ -61,7 +65,8 @@ Bounds parse_bounds(const std::string& text) {
         std::size_t comma = std::min(text.find(',', at), text.size());
         double value = 0;
         auto [end, ec] = std::from_chars(text.data() + at, text.data() + comma, value);
-        if (comma == at || ec != std::errc() || end != text.data() + comma || !std::isfinite(value)) usage_error(expected);
+        if (comma == at || ec != std::errc() || end != text.data() + comma || !std::isfinite(value))
+            usage_error(expected);
         values.push_back(value);
         at = comma + 1;
     }
@@ -97,7 +102,8 @@ MinPiece parse_min_piece(const std::string& text) {
     const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
     if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) ||
         value < 0 || (relative && value > 100))
-        usage_error("--min-piece \"" + text + "\": expected a percentage of the mesh diagonal (e.g. 5%), a length, or 0");
+        usage_error("--min-piece \"" + text +
+                    "\": expected a percentage of the mesh diagonal (e.g. 5%), a length, or 0");
     return {relative ? value / 100 : value, relative};
 }
 
@@ -107,8 +113,10 @@ SimplifyRequest parse_simplify(const std::string& text) {
     const std::string number = in_cells ? text.substr(0, text.size() - unit.size()) : text;
     double value = 0;
     const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
-    if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) || value < 0)
-        usage_error("--simplify \"" + text + "\": expected a length in the file's units, a fraction of a cell (e.g. "
+    if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) ||
+        value < 0)
+        usage_error("--simplify \"" + text +
+                    "\": expected a length in the file's units, a fraction of a cell (e.g. "
                     "0.5cell), or 0 for none");
     SimplifyRequest request;
     request.error = value;
@@ -143,9 +151,18 @@ CLI::Validator positive_number() {
 
 std::string flag_hint(const std::string& option, const std::string& message) {
     static const std::map<std::string, std::string> flags{
-        {"outputs", "-o"},       {"report", "--report"},       {"scan_bounds", "--scan-bounds"}, {"placement", "--placement"},
-        {"iso", "--iso"},        {"simplify", "--simplify"},   {"min_piece", "--min-piece"},     {"threads", "--threads"},
-        {"grid", "--grid"},      {"bounds", "--bounds"},       {"surface", "--surface"},         {"max_memory", "--max-memory"},
+        {"outputs", "-o"},
+        {"report", "--report"},
+        {"scan_bounds", "--scan-bounds"},
+        {"placement", "--placement"},
+        {"iso", "--iso"},
+        {"simplify", "--simplify"},
+        {"min_piece", "--min-piece"},
+        {"threads", "--threads"},
+        {"grid", "--grid"},
+        {"bounds", "--bounds"},
+        {"surface", "--surface"},
+        {"max_memory", "--max-memory"},
     };
     const auto flag = flags.find(option);
     if (flag == flags.end() || message.find(flag->second + " ") != std::string::npos) return {};
@@ -157,9 +174,10 @@ CLI::Validator whole_number(std::uint64_t lowest, std::uint64_t highest) {
         [=](std::string& text) -> std::string {
             std::uint64_t value = 0;
             const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < lowest || value > highest)
-                return "expected a whole number from " + std::to_string(lowest) + " to " + std::to_string(highest) + ", got \"" +
-                       text + "\"";
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < lowest ||
+                value > highest)
+                return "expected a whole number from " + std::to_string(lowest) + " to " + std::to_string(highest) +
+                       ", got \"" + text + "\"";
             return "";
         },
         std::to_string(lowest) + "-" + std::to_string(highest));
@@ -167,7 +185,8 @@ CLI::Validator whole_number(std::uint64_t lowest, std::uint64_t highest) {
 
 CLI::Validator one_of(const std::vector<std::string>& words) {
     std::string list;
-    for (std::size_t i = 0; i < words.size(); ++i) list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    for (std::size_t i = 0; i < words.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
     std::string bar;
     for (std::size_t i = 0; i < words.size(); ++i) bar += (i ? "|" : "") + words[i];
     return CLI::Validator(

@@ -14,10 +14,14 @@ namespace {
 std::string amount(double value, const char* unit) {
     std::ostringstream text;
     text << std::fixed << std::setprecision(1);
-    if (value >= 1e9) text << value / 1e9 << " G" << unit;
-    else if (value >= 1e6) text << value / 1e6 << " M" << unit;
-    else if (value >= 1e3) text << value / 1e3 << " k" << unit;
-    else text << std::setprecision(0) << value << " " << unit;
+    if (value >= 1e9)
+        text << value / 1e9 << " G" << unit;
+    else if (value >= 1e6)
+        text << value / 1e6 << " M" << unit;
+    else if (value >= 1e3)
+        text << value / 1e3 << " k" << unit;
+    else
+        text << std::setprecision(0) << value << " " << unit;
     return text.str();
 }
 
@@ -30,7 +34,9 @@ std::string clock_time(double seconds) {
 
 } // namespace
 
-bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+bool stderr_is_terminal() {
+    return ::isatty(STDERR_FILENO) == 1;
+}
 
 Progress::Progress(std::ostream& out, bool enabled)
     : out_(out), enabled_(enabled), start_(std::chrono::steady_clock::now()) {}
@@ -43,8 +49,8 @@ void Progress::reading(std::uint64_t points, std::uint64_t points_total, std::ui
     const double seconds = std::chrono::duration<double>(now - start_).count();
     std::ostringstream text;
     text << "reading   " << amount(static_cast<double>(points), "points");
-    if (points_total > 0) text << " of " << amount(static_cast<double>(points_total), "") << " ("
-                               << 100 * points / points_total << "%)";
+    if (points_total > 0)
+        text << " of " << amount(static_cast<double>(points_total), "") << " (" << 100 * points / points_total << "%)";
     text << ", " << amount(static_cast<double>(bytes), "B");
     if (bytes_total) text << " of " << amount(static_cast<double>(*bytes_total), "B");
     if (seconds > 0.2) {
@@ -52,8 +58,10 @@ void Progress::reading(std::uint64_t points, std::uint64_t points_total, std::ui
         // The estimate follows the bytes where the size is known (compressed input included),
         // otherwise the promised point count.
         double done = 0;
-        if (bytes_total && *bytes_total > 0) done = static_cast<double>(bytes) / static_cast<double>(*bytes_total);
-        else if (points_total > 0) done = static_cast<double>(points) / static_cast<double>(points_total);
+        if (bytes_total && *bytes_total > 0)
+            done = static_cast<double>(bytes) / static_cast<double>(*bytes_total);
+        else if (points_total > 0)
+            done = static_cast<double>(points) / static_cast<double>(points_total);
         if (done > 0.01) text << ", " << clock_time(seconds * (1 - done) / done) << " left";
     }
     draw(text.str());

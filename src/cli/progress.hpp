@@ -13,7 +13,7 @@
 namespace lasmesh::cli {
 
 class Progress {
-public:
+  public:
     Progress(std::ostream& out, bool enabled);
     ~Progress() { clear(); }
 
@@ -24,7 +24,7 @@ public:
     void stage(const std::string& what); // a stage without a measure of its own: "extracting"
     void clear();                        // erases the line, before the summary is printed
 
-private:
+  private:
     void draw(const std::string& text);
     std::ostream& out_;
     bool enabled_;

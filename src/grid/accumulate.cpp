@@ -3,14 +3,14 @@
 // kernels/accumulate.cl over each; the host reads records straight into the device's slice
 // buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool
 // of bricks when a slice's new bricks would not fit, and reads the pool back in brick order.
-#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/grid/auto_grid.hpp"
+#include "lasmesh/grid/density_grid.hpp"
 
 #include "brick_pool.hpp"
 #include "host_memory.hpp"
 #include "kernel_sources.hpp"
-#include "memory_guard.hpp"
 #include "lasmesh/error.hpp"
+#include "memory_guard.hpp"
 #include "opencl_device.hpp"
 
 #include <algorithm>
@@ -36,12 +36,13 @@ constexpr unsigned run_length = 32;
 // (each at most its total over 2^32), and the second word of a pair once more per wrap of the
 // first (whose 64-bit add spills into it): at most 3 T / 2^32 entries, T the totals of all words,
 // at most `points` times the largest a point adds to them. The list needs the smaller of the two.
-std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads, const std::array<AxisCells, 3>& axes,
-                             bool color) {
+std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads,
+                             const std::array<AxisCells, 3>& axes, bool color) {
     unsigned __int128 per_point = 1; // the count
     for (const AxisCells& axis : axes) {
         std::int64_t widest = 0; // the widest cell in raw units bounds a point's offset from its start
-        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i) widest = std::max(widest, axis.starts[i + 1] - axis.starts[i]);
+        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i)
+            widest = std::max(widest, axis.starts[i + 1] - axis.starts[i]);
         per_point += static_cast<std::uint64_t>(widest);
     }
     if (color) per_point += 3 * 65535;
@@ -71,13 +72,16 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
     out.scale = header.scale;
     out.offset = header.offset;
     out.bricks = brick_dims(out.spec);
-    const std::uint64_t max_alloc = options.max_alloc ? std::min(options.max_alloc, dev.info.max_alloc) : dev.info.max_alloc;
-    const std::uint64_t slice_limit = std::min(options.slice_bytes ? options.slice_bytes : default_slice_bytes, max_alloc);
+    const std::uint64_t max_alloc =
+        options.max_alloc ? std::min(options.max_alloc, dev.info.max_alloc) : dev.info.max_alloc;
+    const std::uint64_t slice_limit =
+        std::min(options.slice_bytes ? options.slice_bytes : default_slice_bytes, max_alloc);
     // No larger than the records still to come: a small file needs no 16 MiB slices.
     const std::size_t slice_records = static_cast<std::size_t>(
         std::clamp<std::uint64_t>(std::min<std::uint64_t>(slice_limit / length, reader.records_left()), 1, 1u << 30));
     const std::size_t slice_bytes = slice_records * length;
-    const MemoryLimits limits{dev.info.global_memory, max_alloc, options.max_memory, options.max_memory ? options.memory_in_use : 0};
+    const MemoryLimits limits{dev.info.global_memory, max_alloc, options.max_memory,
+                              options.max_memory ? options.memory_in_use : 0};
     check_index_memory(header, options, out.spec, slice_bytes, limits);
     for (int a = 0; a < 3; ++a) out.axes[a] = axis_cells(out.spec, a, header.scale[a], header.offset[a]);
 
@@ -105,16 +109,19 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
     try {
         cl::Context& ctx = dev.context;
         cl::CommandQueue& queue = dev.queue;
-        std::string defines = "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
-                              " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
+        std::string defines =
+            "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
+            " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
         // PoCL compiles kernels with clang, whose prefetch builtin is a real one (OpenCL's is not).
         if (host_device && dev.info.platform.find("Portable Computing Language") != std::string::npos)
             defines += " -D CPU_PREFETCH";
         if (color) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header.point_format));
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
-            throw Error(ErrorKind::device, dev.info.name + " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
-                                           "accumulating the grid needs: choose another device (lasmesh devices; --device)");
+            throw Error(ErrorKind::device,
+                        dev.info.name +
+                            " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
+                            "accumulating the grid needs: choose another device (lasmesh devices; --device)");
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
@@ -151,8 +158,8 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         const std::array<std::pair<cl::Kernel*, int>, 3> with_grid{{{&add, 3}, {&mark, 4}, {&add_listed, 4}}};
         for (int a = 0; a < 3; ++a) {
             std::vector<cl_long> starts(out.axes[a].starts.begin(), out.axes[a].starts.end());
-            starts_buffers[a] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, starts.size() * sizeof(cl_long),
-                                           starts.data());
+            starts_buffers[a] = cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                           starts.size() * sizeof(cl_long), starts.data());
             const double raw_span = static_cast<double>(starts.back() - starts.front());
             for (const auto& [k, first] : with_grid) {
                 k->setArg(first + a, starts_buffers[a]);
@@ -173,7 +180,8 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
             add.setArg(pool_arg_add + c, cl::Buffer());
             add_listed.setArg(pool_arg_listed + c, cl::Buffer());
         }
-        for (const auto& [k, first] : {std::pair{&add, pool_arg_add + chunk_args}, std::pair{&add_listed, pool_arg_listed + chunk_args}}) {
+        for (const auto& [k, first] :
+             {std::pair{&add, pool_arg_add + chunk_args}, std::pair{&add_listed, pool_arg_listed + chunk_args}}) {
             k->setArg(first, carry_list);
             k->setArg(first + 1, static_cast<cl_uint>(carry_slots));
             k->setArg(first + 2, stats);
@@ -193,7 +201,7 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
             if (listed == 0) return;
             if (listed > carry_slots)
                 throw Error(ErrorKind::device, "the list of carries overflowed (" + std::to_string(listed) + " of " +
-                                                     std::to_string(carry_slots) + "): the sums would be wrong");
+                                                   std::to_string(carry_slots) + "): the sums would be wrong");
             std::vector<cl_ulong> pairs(2 * std::size_t{listed});
             queue.enqueueReadBuffer(carry_list, CL_TRUE, 0, pairs.size() * sizeof(cl_ulong), pairs.data());
             for (std::size_t i = 0; i < pairs.size(); i += 2) carries.push_back({pairs[i], pairs[i + 1]});
@@ -221,25 +229,28 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
                 // the bricks in use, and the host's copy replaces them chunk by chunk when read
                 // back. A device's pool is read back into the host's copy once more.
                 const std::uint64_t device_pool = host_device ? (used + fresh) * brick_bytes : capacity * brick_bytes;
-                const std::uint64_t host_copy = host_device ? 0 : (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums);
-                const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + device_pool, fixed.host_bytes + host_copy,
-                                      layout.chunk_bricks(c) * brick_bytes};
+                const std::uint64_t host_copy =
+                    host_device ? 0 : (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums);
+                const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + device_pool,
+                                      fixed.host_bytes + host_copy, layout.chunk_bricks(c) * brick_bytes};
                 std::string problem = c == PoolLayout::max_chunks
-                                          ? "it needs more than " + std::to_string(PoolLayout::max_chunks) + " buffers of up to " +
-                                                mib(layout.chunk_bricks(c) * brick_bytes) + " (the device's largest allocation)"
+                                          ? "it needs more than " + std::to_string(PoolLayout::max_chunks) +
+                                                " buffers of up to " + mib(layout.chunk_bricks(c) * brick_bytes) +
+                                                " (the device's largest allocation)"
                                           : exceeded(need, limits, "the pool of bricks");
                 if (!problem.empty()) {
                     queue.finish();
-                    const std::uint64_t limit = std::min(
-                        {layout.chunk_start(PoolLayout::max_chunks) * brick_bytes, limits.global_memory,
-                         limits.max_memory ? limits.max_memory : UINT64_MAX});
+                    const std::uint64_t limit =
+                        std::min({layout.chunk_start(PoolLayout::max_chunks) * brick_bytes, limits.global_memory,
+                                  limits.max_memory ? limits.max_memory : UINT64_MAX});
                     const std::uint64_t fixed_bytes = fixed.device_bytes + fixed.host_bytes + limits.in_use;
                     const std::uint64_t available = limit > fixed_bytes ? limit - fixed_bytes : 0;
                     // Per byte of bricks in use: on a device up to twice in doubling chunks, and
                     // the host's copy of the occupied cells about once more; on a CPU device
                     // about once; and meshing the grid takes about 1.5 times it again (3/4 when
                     // measured on the deck with 64-bit cells, whose pool was twice the size).
-                    pool_too_large(header, out.spec, problem, used + fresh, out.points_read, available, host_device ? 2.5 : 4.5);
+                    pool_too_large(header, out.spec, problem, used + fresh, out.points_read, available,
+                                   host_device ? 2.5 : 4.5);
                 }
                 const std::uint64_t chunk_bytes = layout.chunk_bricks(c) * brick_bytes;
                 chunk_memory.emplace_back();
@@ -271,7 +282,8 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
             add_listed.setArg(0, records);
             add_listed.setArg(2, listed);
             const std::size_t items = (listed + run_length - 1) / run_length;
-            queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64), add_listed_group);
+            queue.enqueueNDRangeKernel(add_listed, cl::NullRange, cl::NDRange((items + 63) / 64 * 64),
+                                       add_listed_group);
             queue.enqueueFillBuffer(counters, cl_uint{0}, 0, 2 * sizeof(cl_uint));
         };
 
@@ -280,16 +292,16 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         // buffer waits only for the kernels that used it, not for the slice still being added.
         // The points slice k could not add yet are added once slice k + 1 is read, before it.
         cl::CommandQueue transfers(ctx, dev.device);
-        std::array<HostMemory, slots> upload_memory; // a CPU device's slices: our memory, in large pages
-        std::array<cl::Buffer, slots> uploads;       // (released first: declared after their memory)
+        std::array<HostMemory, slots> upload_memory;    // a CPU device's slices: our memory, in large pages
+        std::array<cl::Buffer, slots> uploads;          // (released first: declared after their memory)
         std::array<std::vector<cl::Event>, slots> done; // the last kernels that read each buffer
         for (std::size_t s = 0; s < slots; ++s)
             uploads[s] = host_device ? large_buffer(ctx, upload_memory[s], slice_bytes)
                                      : cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, slice_bytes);
         for (std::uint64_t k = 0;; ++k) {
             const std::size_t s = k % slots;
-            auto* mapped = static_cast<std::byte*>(
-                transfers.enqueueMapBuffer(uploads[s], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, slice_bytes, &done[s]));
+            auto* mapped = static_cast<std::byte*>(transfers.enqueueMapBuffer(
+                uploads[s], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, slice_bytes, &done[s]));
             std::size_t n = 0;
             try {
                 n = reader.read_records({mapped, slice_bytes});
@@ -377,12 +389,16 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
                         if (color) brick[k].color = {src[4], src[5], src[6]};
                     }
                     const std::uint64_t first_key = slot * DensityGrid::brick_cells * words;
-                    for (; carry != carries.end() && carry->key < first_key + DensityGrid::brick_cells * words; ++carry) {
+                    for (; carry != carries.end() && carry->key < first_key + DensityGrid::brick_cells * words;
+                         ++carry) {
                         CellSums& cell = brick[(carry->key - first_key) / words];
                         const std::uint64_t word = (carry->key - first_key) % words;
                         if (word > 6) // the unused eighth word is never added to
-                            throw Error(ErrorKind::device, "a carry for an unused word of the pool: the kernel is wrong");
-                        std::uint64_t& sum = word == 0 ? cell.count : word < 4 ? cell.position[word - 1] : cell.color[word - 4];
+                            throw Error(ErrorKind::device,
+                                        "a carry for an unused word of the pool: the kernel is wrong");
+                        std::uint64_t& sum = word == 0  ? cell.count
+                                             : word < 4 ? cell.position[word - 1]
+                                                        : cell.color[word - 4];
                         sum += carry->delta;
                     }
                     const std::uint64_t b = position_of_slot[slot];

@@ -35,12 +35,14 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
     // The coarse bricks: fine brick (x, y, z) falls in coarse brick (x / 2, y / 2, z / 2). Each
     // coarse brick is summed from its (up to 8) fine bricks, then keeps its occupied cells.
     auto coarse_key = [&](std::uint64_t key) {
-        const std::uint64_t x = key % fine.bricks[0], y = key / fine.bricks[0] % fine.bricks[1], z = key / fine.bricks[0] / fine.bricks[1];
+        const std::uint64_t x = key % fine.bricks[0], y = key / fine.bricks[0] % fine.bricks[1],
+                            z = key / fine.bricks[0] / fine.bricks[1];
         return (z / 2 * coarse.bricks[1] + y / 2) * coarse.bricks[0] + x / 2;
     };
     std::vector<std::pair<std::uint64_t, std::size_t>> fine_of_coarse; // (coarse key, fine brick)
     fine_of_coarse.reserve(fine.brick_keys.size());
-    for (std::size_t b = 0; b < fine.brick_keys.size(); ++b) fine_of_coarse.emplace_back(coarse_key(fine.brick_keys[b]), b);
+    for (std::size_t b = 0; b < fine.brick_keys.size(); ++b)
+        fine_of_coarse.emplace_back(coarse_key(fine.brick_keys[b]), b);
     std::sort(fine_of_coarse.begin(), fine_of_coarse.end());
     std::array<CellSums, DensityGrid::brick_cells> sums{};
     for (std::size_t i = 0; i < fine_of_coarse.size();) {
@@ -53,7 +55,8 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
                 const CellSums& from = fine.cells[record];
                 const auto cell = fine.cell_in_brick(fine.brick_keys[b], static_cast<unsigned>(std::countr_zero(mask)));
                 constexpr std::int64_t m = size - 1;
-                CellSums& to = sums[static_cast<std::size_t>((((cell[2] >> 1) & m) * size + ((cell[1] >> 1) & m)) * size + ((cell[0] >> 1) & m))];
+                CellSums& to = sums[static_cast<std::size_t>(
+                    (((cell[2] >> 1) & m) * size + ((cell[1] >> 1) & m)) * size + ((cell[0] >> 1) & m))];
                 to.count += from.count;
                 for (int a = 0; a < 3; ++a) {
                     // Position sums count from the cell's first raw value: the fine cell starts later.

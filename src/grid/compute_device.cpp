@@ -5,9 +5,9 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdint>
-#include <cctype>
 
 namespace lasmesh {
 
@@ -60,8 +60,8 @@ std::vector<std::pair<DeviceInfo, cl::Device>> all_devices() {
             info.platform = platform.getInfo<CL_PLATFORM_NAME>();
             info.name = device.getInfo<CL_DEVICE_NAME>();
             const cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
-            info.type = type & CL_DEVICE_TYPE_GPU ? "GPU"
-                        : type & CL_DEVICE_TYPE_CPU ? "CPU"
+            info.type = type & CL_DEVICE_TYPE_GPU           ? "GPU"
+                        : type & CL_DEVICE_TYPE_CPU         ? "CPU"
                         : type & CL_DEVICE_TYPE_ACCELERATOR ? "accelerator"
                                                             : "other";
             info.version = device.getInfo<CL_DEVICE_VERSION>();
@@ -102,7 +102,8 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
         if (!chosen) chosen = &devices.front();
     } else if (!selector.empty() && std::all_of(selector.begin(), selector.end(), ::isdigit)) {
         std::size_t index = 0; // digits too many for size_t leave it out of range, as any large index
-        if (std::from_chars(selector.data(), selector.data() + selector.size(), index).ec != std::errc()) index = SIZE_MAX;
+        if (std::from_chars(selector.data(), selector.data() + selector.size(), index).ec != std::errc())
+            index = SIZE_MAX;
         if (index >= devices.size())
             throw Error(ErrorKind::usage, "--device " + selector + ": there are " + std::to_string(devices.size()) +
                                               " devices (see `lasmesh devices`)");
@@ -114,7 +115,8 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
                 break;
             }
         if (!chosen)
-            throw Error(ErrorKind::usage, "--device \"" + selector + "\": no device name contains it (see `lasmesh devices`)");
+            throw Error(ErrorKind::usage,
+                        "--device \"" + selector + "\": no device name contains it (see `lasmesh devices`)");
     }
     impl_->info = chosen->first;
     impl_->device = chosen->second;
@@ -128,7 +130,9 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
 
 ComputeDevice::~ComputeDevice() = default;
 
-const DeviceInfo& ComputeDevice::info() const { return impl_->info; }
+const DeviceInfo& ComputeDevice::info() const {
+    return impl_->info;
+}
 
 cl::Program build_program(ComputeDevice::Impl& device, const char* name, const std::string& source,
                           const std::string& options) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// DensityGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks for.
+// DensityGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks
+// for.
 #include "lasmesh/grid/density_grid.hpp"
 
 #include "memory_guard.hpp"
@@ -24,7 +25,9 @@ BrickTable::BrickTable(const std::vector<std::uint64_t>& keys) {
     }
 }
 
-std::uint64_t brick_device_bytes(bool has_color) { return DensityGrid::brick_cells * cell_words(has_color) * 4; }
+std::uint64_t brick_device_bytes(bool has_color) {
+    return DensityGrid::brick_cells * cell_words(has_color) * 4;
+}
 
 std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cells>& brick) {
     std::uint64_t mask = 0;
@@ -36,7 +39,9 @@ std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cell
     return mask;
 }
 
-std::uint64_t DensityGrid::occupied_cells() const { return cells.size(); }
+std::uint64_t DensityGrid::occupied_cells() const {
+    return cells.size();
+}
 
 std::uint64_t DensityGrid::median_count() const {
     if (cells.empty()) return 0;
@@ -72,8 +77,9 @@ Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
 Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
     Vec3 p{};
     for (int a = 0; a < 3; ++a) {
-        const double raw = static_cast<double>(axes[a].starts[cell[a]]) +
-                           static_cast<double>(sums.position[a]) / static_cast<double>(std::max<std::uint64_t>(1, sums.count));
+        const double raw =
+            static_cast<double>(axes[a].starts[cell[a]]) +
+            static_cast<double>(sums.position[a]) / static_cast<double>(std::max<std::uint64_t>(1, sums.count));
         p[a] = raw * scale[a] + offset[a] - spec.origin[a];
     }
     return p;

@@ -14,7 +14,9 @@ namespace lasmesh {
 
 namespace {
 
-[[noreturn]] void usage_error(const std::string& what) { throw Error(ErrorKind::usage, what); }
+[[noreturn]] void usage_error(const std::string& what) {
+    throw Error(ErrorKind::usage, what);
+}
 
 } // namespace
 
@@ -101,7 +103,8 @@ AxisCells axis_cells(const GridSpec& grid, int axis, double scale, double offset
     const std::uint32_t n = grid.dims[axis];
     AxisCells cells;
     cells.starts.resize(n + 1);
-    for (std::uint32_t i = 0; i < n; ++i) cells.starts[i] = first_raw_beyond(grid.origin[axis] + i * grid.cell_size, false);
+    for (std::uint32_t i = 0; i < n; ++i)
+        cells.starts[i] = first_raw_beyond(grid.origin[axis] + i * grid.cell_size, false);
     // Closed upper face: the end is the first raw value strictly above it.
     cells.starts[n] = first_raw_beyond(grid.origin[axis] + n * grid.cell_size, true);
     return cells;

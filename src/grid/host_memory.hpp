@@ -24,7 +24,7 @@ inline void advise_large_pages(void* data, std::size_t bytes) {
 }
 
 class HostMemory {
-public:
+  public:
     HostMemory() = default;
     explicit HostMemory(std::size_t bytes) {
         constexpr std::size_t large_page = 2u << 20;
@@ -33,7 +33,8 @@ public:
         if (p == MAP_FAILED) throw std::bad_alloc();
         // Keep a large-page-aligned part of the mapping; give back what lies before and after it.
         auto* start = static_cast<char*>(p);
-        auto* aligned = reinterpret_cast<char*>((reinterpret_cast<std::uintptr_t>(start) + large_page - 1) & ~(large_page - 1));
+        auto* aligned =
+            reinterpret_cast<char*>((reinterpret_cast<std::uintptr_t>(start) + large_page - 1) & ~(large_page - 1));
         if (aligned > start) munmap(start, static_cast<std::size_t>(aligned - start));
         char* end = start + mapped;
         const std::size_t kept = (bytes + 4095) & ~std::size_t{4095};
@@ -62,7 +63,7 @@ public:
         if (data_ && end > begin) madvise(static_cast<char*>(data_) + begin, end - begin, MADV_DONTNEED);
     }
 
-private:
+  private:
     void* data_ = nullptr;
     std::size_t bytes_ = 0;
 };

@@ -14,7 +14,8 @@ namespace {
 
 // The largest N along the longest axis for which `fits(grid)` holds (memory grows with N).
 template <class Fits>
-std::uint32_t largest_fitting_grid(const LasHeader& header, const AccumulateOptions& options, std::uint32_t upper, Fits fits) {
+std::uint32_t largest_fitting_grid(const LasHeader& header, const AccumulateOptions& options, std::uint32_t upper,
+                                   Fits fits) {
     std::uint32_t lo = 0, hi = upper;
     while (lo < hi) {
         const std::uint32_t mid = lo + (hi - lo + 1) / 2;
@@ -28,7 +29,9 @@ std::uint32_t largest_fitting_grid(const LasHeader& header, const AccumulateOpti
     return lo;
 }
 
-std::uint32_t longest_dim(const GridSpec& g) { return std::max({g.dims[0], g.dims[1], g.dims[2]}); }
+std::uint32_t longest_dim(const GridSpec& g) {
+    return std::max({g.dims[0], g.dims[1], g.dims[2]});
+}
 
 } // namespace
 
@@ -42,7 +45,9 @@ std::string dims_text(const GridSpec& g) {
     return std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
 }
 
-std::uint64_t cell_words(bool color) { return color ? 8 : 4; }
+std::uint64_t cell_words(bool color) {
+    return color ? 8 : 4;
+}
 
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid) {
     std::array<std::uint32_t, 3> b{};
@@ -90,13 +95,14 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
     // early. Between the two: at most twice the bricks seen so far.
     const double seen = std::max<double>(1, static_cast<double>(points_read)) / std::max<double>(1, header.point_count);
     const double growth = std::min(2.0, 1 / std::min(1.0, seen));
-    const double projected = static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * cost_per_brick_byte;
+    const double projected =
+        static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * cost_per_brick_byte;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) +
-                                      " of " + std::to_string(header.point_count) + " points its surface fills " +
-                                      std::to_string(bricks_used) + " bricks and " + problem +
-                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
+    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " +
+                                      std::to_string(points_read) + " of " + std::to_string(header.point_count) +
+                                      " points its surface fills " + std::to_string(bricks_used) + " bricks and " +
+                                      problem + (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
                                       " (nothing was written)");
 }
 

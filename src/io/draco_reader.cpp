@@ -32,7 +32,8 @@ Mesh to_mesh(const draco::Mesh& in, const draco::PointAttribute* position, const
              const draco::PointAttribute* normal, const std::string& name) {
     if (!position || position->num_components() != 3)
         throw Error(ErrorKind::input, name + ": no 3-component POSITION attribute");
-    if (color && (color->num_components() != 3 || (color->data_type() != draco::DT_UINT8 && color->data_type() != draco::DT_UINT16)))
+    if (color && (color->num_components() != 3 ||
+                  (color->data_type() != draco::DT_UINT8 && color->data_type() != draco::DT_UINT16)))
         throw Error(ErrorKind::input, name + ": the COLOR attribute is not 3 components of 8 or 16 bits");
     Mesh mesh;
     const draco::PointIndex::ValueType points = in.num_points();
@@ -41,7 +42,8 @@ Mesh to_mesh(const draco::Mesh& in, const draco::PointAttribute* position, const
     if (normal && normal->num_components() == 3) mesh.normals.resize(points);
     for (draco::PointIndex p(0); p < points; ++p) {
         position->ConvertValue<float, 3>(position->mapped_index(p), mesh.positions[p.value()].data());
-        if (!mesh.normals.empty()) normal->ConvertValue<float, 3>(normal->mapped_index(p), mesh.normals[p.value()].data());
+        if (!mesh.normals.empty())
+            normal->ConvertValue<float, 3>(normal->mapped_index(p), mesh.normals[p.value()].data());
         if (color && color->data_type() == draco::DT_UINT8) {
             color->GetValue(color->mapped_index(p), mesh.colors[p.value()].data());
         } else if (color) {
@@ -74,8 +76,8 @@ std::string read_whole_file(const std::string& path) {
     return std::move(bytes).str();
 }
 
-Mesh decode_draco_attributes(std::string_view bytes, const std::string& name, int position_id, std::optional<int> color_id,
-                             std::optional<int> normal_id) {
+Mesh decode_draco_attributes(std::string_view bytes, const std::string& name, int position_id,
+                             std::optional<int> color_id, std::optional<int> normal_id) {
     const auto decoded = decode_stream(bytes, name);
     return to_mesh(*decoded, decoded->GetAttributeByUniqueId(position_id),
                    color_id ? decoded->GetAttributeByUniqueId(*color_id) : nullptr,
@@ -89,6 +91,8 @@ Mesh decode_draco(std::string_view bytes, const std::string& name) {
                    decoded->GetNamedAttribute(draco::GeometryAttribute::NORMAL), name);
 }
 
-Mesh read_draco(const std::string& path) { return decode_draco(read_whole_file(path), path); }
+Mesh read_draco(const std::string& path) {
+    return decode_draco(read_whole_file(path), path);
+}
 
 } // namespace lasmesh

@@ -43,7 +43,8 @@ int automatic_position_bits(const Mesh& mesh) {
 
 int position_bits(const Mesh& mesh, const DracoOptions& options) {
     if (options.position_bits < 0 || options.position_bits > 30)
-        throw Error(ErrorKind::usage, "Draco position bits must be 1 to 30, not " + std::to_string(options.position_bits));
+        throw Error(ErrorKind::usage,
+                    "Draco position bits must be 1 to 30, not " + std::to_string(options.position_bits));
     if (options.level < 0 || options.level > 10)
         throw Error(ErrorKind::usage, "Draco level must be 0 to 10, not " + std::to_string(options.level));
     return options.position_bits > 0 ? options.position_bits : automatic_position_bits(mesh);
@@ -53,8 +54,8 @@ namespace {
 
 // Adds an attribute with one value per point, filled from `value(i)`, with the given unique id.
 template <typename T, typename Value>
-void add_attribute(draco::Mesh& out, draco::GeometryAttribute::Type type, draco::DataType data_type,
-                   bool normalized, int unique_id, Value value) {
+void add_attribute(draco::Mesh& out, draco::GeometryAttribute::Type type, draco::DataType data_type, bool normalized,
+                   int unique_id, Value value) {
     draco::GeometryAttribute attribute;
     attribute.Init(type, nullptr, 3, data_type, normalized, 3 * sizeof(T), 0);
     const int id = out.AddAttribute(attribute, true, out.num_points());
@@ -106,7 +107,8 @@ std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoCol
     encoder.SetSpeedOptions(10 - options.level, 10 - options.level);
     draco::EncoderBuffer buffer;
     const draco::Status status = encoder.EncodeMeshToBuffer(out, &buffer);
-    if (!status.ok()) throw Error(ErrorKind::output, std::string("Draco cannot encode the mesh: ") + status.error_msg());
+    if (!status.ok())
+        throw Error(ErrorKind::output, std::string("Draco cannot encode the mesh: ") + status.error_msg());
     return std::string(buffer.data(), buffer.size());
 }
 

@@ -27,7 +27,9 @@ const json& element(const json& gltf, const char* name, std::size_t index) {
     return array[index];
 }
 
-std::vector<double> numbers(const json& array) { return array.get<std::vector<double>>(); }
+std::vector<double> numbers(const json& array) {
+    return array.get<std::vector<double>>();
+}
 
 // Whether a node rotation (x, y, z, w) is write_glb's: -90 degrees about x.
 bool is_z_up_to_y_up(const std::vector<double>& q) {
@@ -43,12 +45,15 @@ std::optional<int> optional_id(const json& object, const char* key) {
 // The primitive's Draco stream, its attributes found by the unique ids the extension names.
 Mesh draco_primitive(const json& gltf, const json& draco, std::string_view bin, const std::string& path) {
     const json& view = element(gltf, "bufferViews", draco.at("bufferView").get<std::size_t>());
-    if (view.at("buffer").get<int>() != 0) throw std::out_of_range("the Draco buffer view is not in the GLB's BIN chunk");
-    const std::size_t offset = view.value("byteOffset", std::size_t{0}), length = view.at("byteLength").get<std::size_t>();
-    if (offset > bin.size() || length > bin.size() - offset) throw std::out_of_range("the Draco buffer view runs past the BIN chunk");
+    if (view.at("buffer").get<int>() != 0)
+        throw std::out_of_range("the Draco buffer view is not in the GLB's BIN chunk");
+    const std::size_t offset = view.value("byteOffset", std::size_t{0}),
+                      length = view.at("byteLength").get<std::size_t>();
+    if (offset > bin.size() || length > bin.size() - offset)
+        throw std::out_of_range("the Draco buffer view runs past the BIN chunk");
     const json& ids = draco.at("attributes");
-    return decode_draco_attributes(bin.substr(offset, length), path, ids.at("POSITION").get<int>(), optional_id(ids, "COLOR_0"),
-                                   optional_id(ids, "NORMAL"));
+    return decode_draco_attributes(bin.substr(offset, length), path, ids.at("POSITION").get<int>(),
+                                   optional_id(ids, "COLOR_0"), optional_id(ids, "NORMAL"));
 }
 
 // An accessor's elements as `components` doubles each (normalized integers scaled to 0..1).
@@ -71,8 +76,10 @@ std::vector<double> accessor_values(const json& gltf, std::size_t index, int com
     for (std::size_t i = 0; i < count; ++i)
         for (int c = 0; c < components; ++c) {
             const auto* at = reinterpret_cast<const std::byte*>(bin.data() + start + stride * i + size * c);
-            double v = type == 5126 ? load_le<float>(at) : type == 5125 ? load_le<std::uint32_t>(at)
-                     : type == 5123 ? load_le<std::uint16_t>(at) : double(load_le<std::uint8_t>(at));
+            double v = type == 5126   ? load_le<float>(at)
+                       : type == 5125 ? load_le<std::uint32_t>(at)
+                       : type == 5123 ? load_le<std::uint16_t>(at)
+                                      : double(load_le<std::uint8_t>(at));
             if (normalized && type == 5123) v /= 65535;
             if (normalized && type == 5121) v /= 255;
             values[i * components + c] = v;
@@ -92,14 +99,16 @@ Mesh plain_primitive(const json& gltf, const json& primitive, std::string_view b
         const std::vector<double> v = accessor_values(gltf, attributes.at("NORMAL").get<std::size_t>(), 3, bin);
         if (v.size() != p.size()) throw std::out_of_range("NORMAL and POSITION counts differ");
         mesh.normals.resize(n);
-        for (std::size_t i = 0; i < n; ++i) mesh.normals[i] = {float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
+        for (std::size_t i = 0; i < n; ++i)
+            mesh.normals[i] = {float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
     }
     if (attributes.contains("COLOR_0")) {
         const std::vector<double> v = accessor_values(gltf, attributes.at("COLOR_0").get<std::size_t>(), 3, bin);
         if (v.size() != p.size()) throw std::out_of_range("COLOR_0 and POSITION counts differ");
         mesh.colors.resize(n);
         for (std::size_t i = 0; i < 3 * n; ++i)
-            mesh.colors[i / 3][i % 3] = linear16_to_srgb8(static_cast<std::uint16_t>(std::lround(std::clamp(v[i], 0.0, 1.0) * 65535)));
+            mesh.colors[i / 3][i % 3] =
+                linear16_to_srgb8(static_cast<std::uint16_t>(std::lround(std::clamp(v[i], 0.0, 1.0) * 65535)));
     }
     const std::vector<double> index = accessor_values(gltf, primitive.at("indices").get<std::size_t>(), 1, bin);
     if (index.size() % 3) throw std::out_of_range("the index count is not a multiple of 3");
@@ -119,8 +128,9 @@ Mesh read_glb(const std::string& path) {
     auto u32 = [&](std::size_t at) { return load_le<std::uint32_t>(bytes + at); };
     if (file.size() < 20 || file.compare(0, 4, "glTF") != 0 || u32(4) != 2)
         throw Error(ErrorKind::input, path + ": not a glTF 2.0 binary file (GLB)");
-    if (u32(8) != file.size()) throw Error(ErrorKind::input, path + ": the GLB header gives " + std::to_string(u32(8)) +
-                                                                 " bytes, the file has " + std::to_string(file.size()));
+    if (u32(8) != file.size())
+        throw Error(ErrorKind::input, path + ": the GLB header gives " + std::to_string(u32(8)) +
+                                          " bytes, the file has " + std::to_string(file.size()));
     const std::size_t json_length = u32(12);
     if (u32(16) != 0x4E4F534A || 20 + json_length > file.size())
         throw Error(ErrorKind::input, path + ": the first GLB chunk is not a complete JSON chunk");
@@ -147,7 +157,8 @@ Mesh read_glb(const std::string& path) {
             mesh.cell_size = node.at("extras").value("cell_size", 0.0);
             return mesh;
         }
-        const std::vector<double> t = node.contains("translation") ? numbers(node.at("translation")) : std::vector<double>{0, 0, 0};
+        const std::vector<double> t =
+            node.contains("translation") ? numbers(node.at("translation")) : std::vector<double>{0, 0, 0};
         if (t.size() != 3) throw std::out_of_range("the node's translation is not 3 numbers");
         if (!node.contains("rotation")) {
             mesh.origin = {t[0], t[1], t[2]};

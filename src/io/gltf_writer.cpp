@@ -6,12 +6,12 @@
 // Scene API, whose headers need Eigen.
 #include "lasmesh/io/gltf_writer.hpp"
 
+#include "io/json.hpp"
 #include "lasmesh/byte_order.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/io/draco_reader.hpp"
 #include "lasmesh/io/output_file.hpp"
 #include "lasmesh/io/srgb.hpp"
-#include "io/json.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -33,7 +33,9 @@ double float_value(float value) {
     return exact;
 }
 
-bool small_indices(const Mesh& mesh) { return mesh.positions.size() <= 65535; } // 65535 is restart
+bool small_indices(const Mesh& mesh) {
+    return mesh.positions.size() <= 65535;
+} // 65535 is restart
 
 // What the accessors describe: the mesh itself (plain), or the decoded Draco mesh, whose vertex
 // order and count may differ from the encoded one. glTF requires POSITION's bounds.
@@ -75,7 +77,8 @@ Layout plain_layout(const Mesh& mesh) {
     auto floats = [&](const std::vector<std::array<float, 3>>& values) {
         std::string bytes(12 * values.size(), '\0');
         for (std::size_t i = 0; i < values.size(); ++i)
-            for (int c = 0; c < 3; ++c) store_le<float>(reinterpret_cast<std::byte*>(bytes.data() + 12 * i + 4 * c), values[i][c]);
+            for (int c = 0; c < 3; ++c)
+                store_le<float>(reinterpret_cast<std::byte*>(bytes.data() + 12 * i + 4 * c), values[i][c]);
         return bytes;
     };
     add("POSITION", floats(mesh.positions), 34962, 0, position_accessor(mesh));
@@ -85,8 +88,10 @@ Layout plain_layout(const Mesh& mesh) {
         std::string bytes(8 * n, '\0'); // three words and two bytes of padding per vertex
         for (std::size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c)
-                store_le<std::uint16_t>(reinterpret_cast<std::byte*>(bytes.data() + 8 * i + 2 * c), srgb8_to_linear16(mesh.colors[i][c]));
-        add("COLOR_0", bytes, 34962, 8, {{"componentType", uint16_type}, {"normalized", true}, {"count", n}, {"type", "VEC3"}});
+                store_le<std::uint16_t>(reinterpret_cast<std::byte*>(bytes.data() + 8 * i + 2 * c),
+                                        srgb8_to_linear16(mesh.colors[i][c]));
+        add("COLOR_0", bytes, 34962, 8,
+            {{"componentType", uint16_type}, {"normalized", true}, {"count", n}, {"type", "VEC3"}});
     }
     l.indices = l.accessors.size();
     const bool small = small_indices(mesh);
@@ -95,10 +100,13 @@ Layout plain_layout(const Mesh& mesh) {
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) {
             auto* at = reinterpret_cast<std::byte*>(bytes.data() + width * (3 * t + c));
-            if (small) store_le<std::uint16_t>(at, static_cast<std::uint16_t>(mesh.triangles[t][c]));
-            else store_le<std::uint32_t>(at, mesh.triangles[t][c]);
+            if (small)
+                store_le<std::uint16_t>(at, static_cast<std::uint16_t>(mesh.triangles[t][c]));
+            else
+                store_le<std::uint32_t>(at, mesh.triangles[t][c]);
         }
-    add("", bytes, 34963, 0, {{"componentType", small ? uint16_type : uint32_type}, {"count", bytes.size() / width}, {"type", "SCALAR"}});
+    add("", bytes, 34963, 0,
+        {{"componentType", small ? uint16_type : uint32_type}, {"count", bytes.size() / width}, {"type", "SCALAR"}});
     return l;
 }
 
@@ -121,7 +129,8 @@ Layout draco_layout(const Mesh& mesh, const DracoOptions& options) {
     if (!decoded.colors.empty()) {
         ids["COLOR_0"] = draco_color_id;
         l.attributes["COLOR_0"] = l.accessors.size();
-        l.accessors.push_back({{"componentType", uint16_type}, {"normalized", true}, {"count", points}, {"type", "VEC3"}});
+        l.accessors.push_back(
+            {{"componentType", uint16_type}, {"normalized", true}, {"count", points}, {"type", "VEC3"}});
     }
     if (!decoded.normals.empty()) {
         ids["NORMAL"] = draco_normal_id;
@@ -130,7 +139,8 @@ Layout draco_layout(const Mesh& mesh, const DracoOptions& options) {
     }
     l.indices = l.accessors.size();
     l.accessors.push_back({{"componentType", small_indices(decoded) ? uint16_type : uint32_type},
-                           {"count", 3 * decoded.triangles.size()}, {"type", "SCALAR"}});
+                           {"count", 3 * decoded.triangles.size()},
+                           {"type", "SCALAR"}});
     l.views.push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", l.bin.size()}});
     l.primitive_extensions = {{"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", ids}}}};
     return l;
@@ -182,15 +192,17 @@ std::string chunk(std::uint32_t type, std::string data, char pad) {
 
 std::string encode_glb(const Mesh& mesh, const GltfOptions& options) {
     if (mesh.triangles.empty()) throw Error(ErrorKind::output, "the mesh has no triangles, glTF cannot hold it");
-    const Layout layout = options.compression == GltfCompression::draco ? draco_layout(mesh, options.draco) : plain_layout(mesh);
+    const Layout layout =
+        options.compression == GltfCompression::draco ? draco_layout(mesh, options.draco) : plain_layout(mesh);
     if (layout.bin.size() > 0xFFFFFFF0u) throw Error(ErrorKind::output, "the mesh is too large for a GLB file (4 GiB)");
-    const std::string body =
-        chunk(0x4E4F534A, gltf_json(mesh, options, layout, layout.bin.size()), ' ') + chunk(0x004E4942, layout.bin, '\0');
+    const std::string body = chunk(0x4E4F534A, gltf_json(mesh, options, layout, layout.bin.size()), ' ') +
+                             chunk(0x004E4942, layout.bin, '\0');
     if (body.size() + 12 > 0xFFFFFFFFu) throw Error(ErrorKind::output, "the mesh is too large for a GLB file (4 GiB)");
     std::string header(12, '\0');
     header.replace(0, 4, "glTF");
     store_le<std::uint32_t>(reinterpret_cast<std::byte*>(header.data() + 4), 2);
-    store_le<std::uint32_t>(reinterpret_cast<std::byte*>(header.data() + 8), static_cast<std::uint32_t>(12 + body.size()));
+    store_le<std::uint32_t>(reinterpret_cast<std::byte*>(header.data() + 8),
+                            static_cast<std::uint32_t>(12 + body.size()));
     return header + body;
 }
 

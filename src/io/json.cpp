@@ -13,7 +13,9 @@ std::string json_line(const Json& json) {
     return json.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace);
 }
 
-std::string json_text(const Json& json) { return json.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+std::string json_text(const Json& json) {
+    return json.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 namespace {
 
@@ -23,11 +25,16 @@ bool valid_utf8(std::string_view text) {
         const auto c = static_cast<unsigned char>(text[i]);
         std::size_t n = 0;
         std::uint32_t code = 0;
-        if (c < 0x80) n = 1, code = c;
-        else if ((c & 0xE0) == 0xC0) n = 2, code = c & 0x1F;
-        else if ((c & 0xF0) == 0xE0) n = 3, code = c & 0x0F;
-        else if ((c & 0xF8) == 0xF0) n = 4, code = c & 0x07;
-        else return false;
+        if (c < 0x80)
+            n = 1, code = c;
+        else if ((c & 0xE0) == 0xC0)
+            n = 2, code = c & 0x1F;
+        else if ((c & 0xF0) == 0xE0)
+            n = 3, code = c & 0x0F;
+        else if ((c & 0xF8) == 0xF0)
+            n = 4, code = c & 0x07;
+        else
+            return false;
         if (i + n > text.size()) return false;
         for (std::size_t k = 1; k < n; ++k) {
             const auto d = static_cast<unsigned char>(text[i + k]);
@@ -43,7 +50,9 @@ bool valid_utf8(std::string_view text) {
 
 } // namespace
 
-std::string utf8_or_latin1(std::string_view text) { return valid_utf8(text) ? std::string(text) : latin1_to_utf8(text); }
+std::string utf8_or_latin1(std::string_view text) {
+    return valid_utf8(text) ? std::string(text) : latin1_to_utf8(text);
+}
 
 std::string latin1_to_utf8(std::string_view text) {
     std::string out;

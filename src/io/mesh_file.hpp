@@ -15,7 +15,7 @@ namespace lasmesh {
 std::string read_whole_file(const std::string& path);
 
 // Throws Error (input) naming `name` when the stream is not a Draco mesh or lacks the attributes.
-Mesh decode_draco_attributes(std::string_view bytes, const std::string& name, int position_id, std::optional<int> color_id,
-                             std::optional<int> normal_id);
+Mesh decode_draco_attributes(std::string_view bytes, const std::string& name, int position_id,
+                             std::optional<int> color_id, std::optional<int> normal_id);
 
 } // namespace lasmesh

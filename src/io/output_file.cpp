@@ -69,8 +69,9 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     // Created and registered under the lock: no moment where the file exists unregistered.
     std::lock_guard lock(unfinished().mutex);
     const int fd = ::mkstemps(pattern.data(), 4);
-    if (fd < 0) throw Error(ErrorKind::output, path_ + ": cannot create a temporary file in " + folder_of(path_) + ": " +
-                                                   std::strerror(errno));
+    if (fd < 0)
+        throw Error(ErrorKind::output,
+                    path_ + ": cannot create a temporary file in " + folder_of(path_) + ": " + std::strerror(errno));
     temporary_ = pattern;
     unfinished().paths.push_back(temporary_);
     ::fchmod(fd, new_file_mode());
@@ -142,7 +143,8 @@ void remove_unfinished_outputs() {
     for (const std::string& temporary : unfinished().paths) ::unlink(temporary.c_str());
 }
 
-void write_encoded(const std::string& path, const std::string& format, bool empty, const std::function<std::string()>& encode) {
+void write_encoded(const std::string& path, const std::string& format, bool empty,
+                   const std::function<std::string()>& encode) {
     if (empty) throw Error(ErrorKind::output, path + ": the mesh has no triangles, " + format + " cannot hold it");
     std::string bytes;
     try {

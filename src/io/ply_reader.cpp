@@ -6,12 +6,12 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
-#include <cstdint>
-#include <filesystem>
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -39,9 +39,9 @@ enum class Format { ascii, little_endian, big_endian };
 
 bool parse_type(const std::string& text, Type& type) {
     static const std::pair<const char*, Type> names[] = {
-        {"char", Type::int8},     {"int8", Type::int8},     {"uchar", Type::uint8},   {"uint8", Type::uint8},
-        {"short", Type::int16},   {"int16", Type::int16},   {"ushort", Type::uint16}, {"uint16", Type::uint16},
-        {"int", Type::int32},     {"int32", Type::int32},   {"uint", Type::uint32},   {"uint32", Type::uint32},
+        {"char", Type::int8},     {"int8", Type::int8},       {"uchar", Type::uint8},    {"uint8", Type::uint8},
+        {"short", Type::int16},   {"int16", Type::int16},     {"ushort", Type::uint16},  {"uint16", Type::uint16},
+        {"int", Type::int32},     {"int32", Type::int32},     {"uint", Type::uint32},    {"uint32", Type::uint32},
         {"float", Type::float32}, {"float32", Type::float32}, {"double", Type::float64}, {"float64", Type::float64}};
     for (const auto& [name, t] : names)
         if (text == name) return type = t, true;
@@ -50,9 +50,13 @@ bool parse_type(const std::string& text, Type& type) {
 
 std::size_t type_size(Type t) {
     switch (t) {
-    case Type::int8: case Type::uint8: return 1;
-    case Type::int16: case Type::uint16: return 2;
-    case Type::int32: case Type::uint32: case Type::float32: return 4;
+    case Type::int8:
+    case Type::uint8: return 1;
+    case Type::int16:
+    case Type::uint16: return 2;
+    case Type::int32:
+    case Type::uint32:
+    case Type::float32: return 4;
     case Type::float64: return 8;
     }
     return 0;
@@ -60,7 +64,7 @@ std::size_t type_size(Type t) {
 
 // The body as a cursor that reads one value of any type, in the file's encoding.
 class Body {
-public:
+  public:
     Body(const std::string& path, std::vector<char> bytes, std::size_t offset, Format format)
         : path_(path), bytes_(std::move(bytes)), at_(offset), format_(format) {}
 
@@ -72,18 +76,20 @@ public:
         throw Error(ErrorKind::input, path_ + ": byte " + std::to_string(at_) + ": " + what);
     }
 
-private:
+  private:
     double ascii_value(const std::string& what) {
         while (at_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[at_]))) ++at_;
         double v = 0;
         const auto [end, ec] = std::from_chars(bytes_.data() + at_, bytes_.data() + bytes_.size(), v);
-        if (ec != std::errc{}) fail("expected a number for " + what + (at_ >= bytes_.size() ? ", found the end of the file" : ""));
+        if (ec != std::errc{})
+            fail("expected a number for " + what + (at_ >= bytes_.size() ? ", found the end of the file" : ""));
         at_ = static_cast<std::size_t>(end - bytes_.data());
         return v;
     }
     double binary_value(Type type, const std::string& what) {
         const std::size_t n = type_size(type);
-        if (bytes_.size() - at_ < n) fail("the file ends inside " + what + " (" + std::to_string(bytes_.size()) + " bytes in all)");
+        if (bytes_.size() - at_ < n)
+            fail("the file ends inside " + what + " (" + std::to_string(bytes_.size()) + " bytes in all)");
         unsigned char b[8];
         std::memcpy(b, bytes_.data() + at_, n);
         if ((format_ == Format::big_endian) == (std::endian::native == std::endian::little))
@@ -92,12 +98,36 @@ private:
         switch (type) {
         case Type::int8: return static_cast<std::int8_t>(b[0]);
         case Type::uint8: return b[0];
-        case Type::int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-        case Type::uint16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-        case Type::int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-        case Type::uint32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-        case Type::float32: { float v; std::memcpy(&v, b, 4); return v; }
-        case Type::float64: { double v; std::memcpy(&v, b, 8); return v; }
+        case Type::int16: {
+            std::int16_t v;
+            std::memcpy(&v, b, 2);
+            return v;
+        }
+        case Type::uint16: {
+            std::uint16_t v;
+            std::memcpy(&v, b, 2);
+            return v;
+        }
+        case Type::int32: {
+            std::int32_t v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Type::uint32: {
+            std::uint32_t v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Type::float32: {
+            float v;
+            std::memcpy(&v, b, 4);
+            return v;
+        }
+        case Type::float64: {
+            double v;
+            std::memcpy(&v, b, 8);
+            return v;
+        }
         }
         return 0;
     }
@@ -109,15 +139,18 @@ private:
 };
 
 std::uint8_t to_8bit(double v, Type type) {
-    if (type == Type::float32 || type == Type::float64) v *= 255; // colours as 0..1
-    else if (type == Type::uint16 || type == Type::int16) v /= 257;
+    if (type == Type::float32 || type == Type::float64)
+        v *= 255; // colours as 0..1
+    else if (type == Type::uint16 || type == Type::int16)
+        v /= 257;
     return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
 }
 
 } // namespace
 
 Mesh read_ply(const std::string& path) {
-    if (std::filesystem::is_directory(path)) throw Error(ErrorKind::input, path + ": is a directory, expected a mesh file");
+    if (std::filesystem::is_directory(path))
+        throw Error(ErrorKind::input, path + ": is a directory, expected a mesh file");
     std::ifstream file(path, std::ios::binary);
     if (!file) throw Error(ErrorKind::input, path + ": cannot open the mesh file");
     std::vector<char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -132,7 +165,8 @@ Mesh read_ply(const std::string& path) {
         const std::size_t start = at;
         while (at < bytes.size() && bytes[at] != '\n') ++at;
         if (at >= bytes.size())
-            throw Error(ErrorKind::input, path + ": byte " + std::to_string(start) + ": the PLY header has no end_header line");
+            throw Error(ErrorKind::input,
+                        path + ": byte " + std::to_string(start) + ": the PLY header has no end_header line");
         std::string line(bytes.data() + start, bytes.data() + at++);
         if (!line.empty() && line.back() == '\r') line.pop_back();
         auto bad = [&](const std::string& what) {
@@ -150,10 +184,14 @@ Mesh read_ply(const std::string& path) {
         if (keyword == "format") {
             std::string name, version;
             words >> name >> version;
-            if (name == "ascii") format = Format::ascii;
-            else if (name == "binary_little_endian") format = Format::little_endian;
-            else if (name == "binary_big_endian") format = Format::big_endian;
-            else throw bad("expected format ascii, binary_little_endian or binary_big_endian");
+            if (name == "ascii")
+                format = Format::ascii;
+            else if (name == "binary_little_endian")
+                format = Format::little_endian;
+            else if (name == "binary_big_endian")
+                format = Format::big_endian;
+            else
+                throw bad("expected format ascii, binary_little_endian or binary_big_endian");
             have_format = true;
         } else if (keyword == "element") {
             Element e;
@@ -205,7 +243,8 @@ Mesh read_ply(const std::string& path) {
             throw Error(ErrorKind::input, path + ": byte " + std::to_string(at) +
                                               ": the PLY header declares elements that need at least " +
                                               std::to_string(least) + " bytes, but only " +
-                                              std::to_string(bytes.size() - at) + " follow it (truncated or damaged file)");
+                                              std::to_string(bytes.size() - at) +
+                                              " follow it (truncated or damaged file)");
     }
     Body body(path, std::move(bytes), at, format);
     bool have_vertices = false;

@@ -20,10 +20,14 @@ std::string run_report_json(const RunReport& r) {
     json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
     if (r.surface == SurfaceKind::closed) json["placement"] = r.placement == VertexPlacement::iso ? "iso" : "surface";
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
-                           {"median_count", r.median_count}, {"brick_cells", DensityGrid::brick_cells}, {"pool_bytes", r.pool_bytes}, {"host_grid_bytes", r.host_grid_bytes}};
-    json["pieces"] = {{"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
-    json["simplify"] = {{"triangles_before", r.simplify.triangles_before}, {"triangles_after", r.simplify.triangles_after},
-                        {"error", r.simplify.error}, {"seconds", r.simplify.seconds}};
+                           {"median_count", r.median_count},     {"brick_cells", DensityGrid::brick_cells},
+                           {"pool_bytes", r.pool_bytes},         {"host_grid_bytes", r.host_grid_bytes}};
+    json["pieces"] = {
+        {"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
+    json["simplify"] = {{"triangles_before", r.simplify.triangles_before},
+                        {"triangles_after", r.simplify.triangles_after},
+                        {"error", r.simplify.error},
+                        {"seconds", r.simplify.seconds}};
     json["vertices"] = r.vertices;
     json["triangles"] = r.triangles;
     json["colored"] = r.colored;
@@ -32,10 +36,10 @@ std::string run_report_json(const RunReport& r) {
     json["outputs"] = Json::array();
     for (const OutputReport& output : r.outputs)
         json["outputs"].push_back({{"path", output.path}, {"bytes", output.bytes}, {"seconds", output.seconds}});
-    json["seconds"] = {{"read_accumulate", r.read_accumulate}, {"extract", r.extract}, {"write", r.write}, {"total", r.total}};
+    json["seconds"] = {
+        {"read_accumulate", r.read_accumulate}, {"extract", r.extract}, {"write", r.write}, {"total", r.total}};
     json["peak_rss_bytes"] = r.peak_rss_bytes;
     return json_line(json) + "\n";
 }
-
 
 } // namespace lasmesh

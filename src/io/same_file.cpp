@@ -31,7 +31,8 @@ bool identity(const std::string& path, struct stat& s) {
 } // namespace
 
 bool same_file(const std::string& a, const std::string& b) {
-    struct stat sa {}, sb {};
+    struct stat sa {
+    }, sb{};
     const bool a_exists = identity(a, sa), b_exists = identity(b, sb);
     if (a_exists && b_exists) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     if (a_exists != b_exists) return false;

@@ -4,8 +4,8 @@
 #include "lasmesh/measure/compare.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/las_point.hpp"
 #include "lasmesh/measure/mesh_distance.hpp"
+#include "lasmesh/read/las_point.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -50,7 +50,8 @@ std::vector<std::uint32_t> spatial_order(const PointSearch& points) {
     const std::size_t n = points.size();
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
     for (std::size_t i = 0; i < n; ++i)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], points.point(i)[a]), hi[a] = std::max(hi[a], points.point(i)[a]);
+        for (int a = 0; a < 3; ++a)
+            lo[a] = std::min(lo[a], points.point(i)[a]), hi[a] = std::max(hi[a], points.point(i)[a]);
     auto spread = [](std::uint64_t x) { // 21 bits to every third bit of 63
         x &= 0x1FFFFF;
         x = (x | x << 32) & 0x1F00000000FFFFull;
@@ -88,7 +89,9 @@ DistanceStats summarize(std::vector<double>& d, double cell_size) {
     const double n = static_cast<double>(d.size());
     s.mean = static_cast<double>(sum / n);
     s.std = std::sqrt(std::max(0.0, static_cast<double>(sum_sq / n) - s.mean * s.mean));
-    auto rank = [&](double q) { return d[std::min(d.size() - 1, static_cast<std::size_t>(std::ceil(q * n)) - (q > 0))]; };
+    auto rank = [&](double q) {
+        return d[std::min(d.size() - 1, static_cast<std::size_t>(std::ceil(q * n)) - (q > 0))];
+    };
     s.median = rank(0.5), s.p95 = rank(0.95), s.p99 = rank(0.99), s.max = d.back();
     if (cell_size > 0) {
         auto share = [&](double limit) { return (std::upper_bound(d.begin(), d.end(), limit) - d.begin()) / n; };
@@ -96,7 +99,8 @@ DistanceStats summarize(std::vector<double>& d, double cell_size) {
         const auto near_end = std::upper_bound(d.begin(), d.end(), 2 * cell_size);
         long double near_sum = 0;
         for (auto v = d.begin(); v != near_end; ++v) near_sum += *v;
-        if (near_end != d.begin()) s.mean_within_2_cells = static_cast<double>(near_sum / static_cast<long double>(near_end - d.begin()));
+        if (near_end != d.begin())
+            s.mean_within_2_cells = static_cast<double>(near_sum / static_cast<long double>(near_end - d.begin()));
     }
     return s;
 }
@@ -127,9 +131,11 @@ CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& 
         if (options.on_step) options.on_step(what);
     };
     step("reading the cloud");
-    const PointSearch points(load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
+    const PointSearch points(
+        load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
     result.points_used = points.size();
-    if (points.size() == 0) throw_input_error(cloud.stream().name(), "has no point records: nothing to measure against");
+    if (points.size() == 0)
+        throw_input_error(cloud.stream().name(), "has no point records: nothing to measure against");
 
     step("measuring cloud to mesh (" + std::to_string(points.size()) + " points)");
     std::vector<double> to_mesh(points.size());
@@ -171,7 +177,8 @@ std::array<std::uint8_t, 3> heat_color(double distance, double scale) {
     const int i = std::min(static_cast<int>(t), 3);
     const double f = t - i;
     std::array<std::uint8_t, 3> c;
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + f * (stops[i + 1][k] - stops[i][k])));
+    for (int k = 0; k < 3; ++k)
+        c[k] = static_cast<std::uint8_t>(std::lround(stops[i][k] + f * (stops[i + 1][k] - stops[i][k])));
     return c;
 }
 

@@ -13,12 +13,18 @@ namespace {
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 sub(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(const Vec3& a, const Vec3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-Vec3 to_vec(const Point3f& p) { return {p[0], p[1], p[2]}; }
+Vec3 to_vec(const Point3f& p) {
+    return {p[0], p[1], p[2]};
+}
 
 double point_segment_squared(const Vec3& p, const Vec3& a, const Vec3& b) {
     const Vec3 ab = sub(b, a), ap = sub(p, a);
@@ -32,7 +38,8 @@ using Box = std::pair<Point3f, Point3f>;
 
 Box merge(const Box& a, const Box& b) {
     Box m;
-    for (int k = 0; k < 3; ++k) m.first[k] = std::min(a.first[k], b.first[k]), m.second[k] = std::max(a.second[k], b.second[k]);
+    for (int k = 0; k < 3; ++k)
+        m.first[k] = std::min(a.first[k], b.first[k]), m.second[k] = std::max(a.second[k], b.second[k]);
     return m;
 }
 
@@ -45,7 +52,9 @@ Bvh build_bvh(const std::vector<Box>& boxes) {
     std::iota(t.items.begin(), t.items.end(), 0u);
     if (boxes.empty()) return t;
     auto centre = [&](std::uint32_t i, int k) { return boxes[i].first[k] + boxes[i].second[k]; };
-    struct Job { std::uint32_t node, begin, end; };
+    struct Job {
+        std::uint32_t node, begin, end;
+    };
     std::vector<Job> jobs{{0, 0, static_cast<std::uint32_t>(boxes.size())}};
     t.nodes.resize(1);
     while (!jobs.empty()) {
@@ -135,8 +144,8 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
         const double v = dot(cross(ab, ap), n) / n_sq, u = dot(cross(ap, ac), n) / n_sq;
         if (u >= 0 && v >= 0 && u + v <= 1) return std::abs(dot(ap, n)) / std::sqrt(n_sq);
     }
-    return std::sqrt(std::min({point_segment_squared(p, a, b), point_segment_squared(p, b, c),
-                               point_segment_squared(p, c, a)}));
+    return std::sqrt(
+        std::min({point_segment_squared(p, a, b), point_segment_squared(p, b, c), point_segment_squared(p, c, a)}));
 }
 
 TriangleSearch::TriangleSearch(const Mesh& mesh) : mesh_(mesh) {
@@ -151,11 +160,14 @@ TriangleSearch::TriangleSearch(const Mesh& mesh) : mesh_(mesh) {
 
 double TriangleSearch::distance(const Vec3& p, std::uint32_t* hint) const {
     const auto& P = mesh_.positions;
-    return std::sqrt(nearest_squared(tree_, p, [&](std::uint32_t t) {
-        const auto& tri = mesh_.triangles[t];
-        const double d = point_triangle_distance(p, to_vec(P[tri[0]]), to_vec(P[tri[1]]), to_vec(P[tri[2]]));
-        return d * d;
-    }, hint));
+    return std::sqrt(nearest_squared(
+        tree_, p,
+        [&](std::uint32_t t) {
+            const auto& tri = mesh_.triangles[t];
+            const double d = point_triangle_distance(p, to_vec(P[tri[0]]), to_vec(P[tri[1]]), to_vec(P[tri[2]]));
+            return d * d;
+        },
+        hint));
 }
 
 PointSearch::PointSearch(std::vector<Point3f> points) : points_(std::move(points)) {
@@ -165,10 +177,13 @@ PointSearch::PointSearch(std::vector<Point3f> points) : points_(std::move(points
 }
 
 double PointSearch::distance(const Vec3& p, std::uint32_t* hint) const {
-    return std::sqrt(nearest_squared(tree_, p, [&](std::uint32_t i) {
-        const Vec3 d = sub(p, to_vec(points_[i]));
-        return dot(d, d);
-    }, hint));
+    return std::sqrt(nearest_squared(
+        tree_, p,
+        [&](std::uint32_t i) {
+            const Vec3 d = sub(p, to_vec(points_[i]));
+            return dot(d, d);
+        },
+        hint));
 }
 
 std::vector<Vec3> sample_surface(const Mesh& mesh, std::size_t count) {
@@ -196,7 +211,8 @@ std::vector<Vec3> sample_surface(const Mesh& mesh, std::size_t count) {
         const auto& tri = mesh.triangles[t];
         double u = unit(2 * s + 1), v = unit(~s);
         if (u + v > 1) u = 1 - u, v = 1 - v; // fold the parallelogram onto the triangle
-        const Vec3 a = to_vec(mesh.positions[tri[0]]), b = to_vec(mesh.positions[tri[1]]), c = to_vec(mesh.positions[tri[2]]);
+        const Vec3 a = to_vec(mesh.positions[tri[0]]), b = to_vec(mesh.positions[tri[1]]),
+                   c = to_vec(mesh.positions[tri[2]]);
         samples.push_back({a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]), a[1] + u * (b[1] - a[1]) + v * (c[1] - a[1]),
                            a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])});
     }

@@ -55,8 +55,8 @@ struct DensityField {
         const std::int64_t di = axis == 0, dj = axis == 1, dk = axis == 2;
         const bool first_inside = v0 > iso;
         const double inside = first_inside ? v0 : v1, outside = first_inside ? v1 : v0;
-        const double beyond = first_inside ? value(p[0] - di, p[1] - dj, p[2] - dk)
-                                           : value(p[0] + 2 * di, p[1] + 2 * dj, p[2] + 2 * dk);
+        const double beyond =
+            first_inside ? value(p[0] - di, p[1] - dj, p[2] - dk) : value(p[0] + 2 * di, p[1] + 2 * dj, p[2] + 2 * dk);
         const double surface = std::min(std::max(level, 0.5 * (inside + beyond)), inside - 0.1 * (inside - outside));
         return (surface - v0) / (v1 - v0);
     }

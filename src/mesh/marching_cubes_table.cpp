@@ -15,7 +15,8 @@ CubeEdges make_edges() {
         const int u = (axis + 1) % 3, v = (axis + 2) % 3;
         for (int k = 0; k < 4; ++k) {
             const int low = ((k & 1) << u) | (((k >> 1) & 1) << v);
-            edges.corners[axis * 4 + k] = {static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(low | (1 << axis))};
+            edges.corners[axis * 4 + k] = {static_cast<std::uint8_t>(low),
+                                           static_cast<std::uint8_t>(low | (1 << axis))};
         }
     }
     return edges;
@@ -23,7 +24,8 @@ CubeEdges make_edges() {
 
 int edge_between(const CubeEdges& edges, int a, int b) {
     for (int e = 0; e < 12; ++e)
-        if ((edges.corners[e][0] == a && edges.corners[e][1] == b) || (edges.corners[e][0] == b && edges.corners[e][1] == a))
+        if ((edges.corners[e][0] == a && edges.corners[e][1] == b) ||
+            (edges.corners[e][0] == b && edges.corners[e][1] == a))
             return e;
     return -1;
 }

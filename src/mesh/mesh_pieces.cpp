@@ -59,7 +59,8 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if (j - i == 1) border.push_back(std::uint32_t(edges[i] >> 32)), border.push_back(std::uint32_t(edges[i] & 0xFFFFFFFFu));
+        if (j - i == 1)
+            border.push_back(std::uint32_t(edges[i] >> 32)), border.push_back(std::uint32_t(edges[i] & 0xFFFFFFFFu));
         i = j;
     }
     std::vector<std::uint64_t>().swap(edges);
@@ -69,7 +70,9 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
     const auto key = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
         return (std::uint64_t(x & 0x1FFFFF) << 42) | (std::uint64_t(y & 0x1FFFFF) << 21) | std::uint64_t(z & 0x1FFFFF);
     };
-    const auto cell_of = [&](std::uint32_t v, int a) { return static_cast<std::int64_t>(std::floor(mesh.positions[v][a] / cell)); };
+    const auto cell_of = [&](std::uint32_t v, int a) {
+        return static_cast<std::int64_t>(std::floor(mesh.positions[v][a] / cell));
+    };
     std::vector<std::pair<std::uint64_t, std::uint32_t>> filed;
     filed.reserve(border.size());
     for (const std::uint32_t v : border) filed.emplace_back(key(cell_of(v, 0), cell_of(v, 1), cell_of(v, 2)), v);
@@ -80,11 +83,13 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
             for (std::int64_t dy = -1; dy <= 1; ++dy)
                 for (std::int64_t dx = -1; dx <= 1; ++dx) {
                     const std::uint64_t k = key(x + dx, y + dy, z + dz);
-                    for (auto it = std::lower_bound(filed.begin(), filed.end(), std::pair<std::uint64_t, std::uint32_t>{k, 0});
+                    for (auto it = std::lower_bound(filed.begin(), filed.end(),
+                                                    std::pair<std::uint64_t, std::uint32_t>{k, 0});
                          it != filed.end() && it->first == k; ++it) {
                         const auto& p = mesh.positions[v];
                         const auto& q = mesh.positions[it->second];
-                        const double d2 = (double(p[0]) - q[0]) * (double(p[0]) - q[0]) + (double(p[1]) - q[1]) * (double(p[1]) - q[1]) +
+                        const double d2 = (double(p[0]) - q[0]) * (double(p[0]) - q[0]) +
+                                          (double(p[1]) - q[1]) * (double(p[1]) - q[1]) +
                                           (double(p[2]) - q[2]) * (double(p[2]) - q[2]);
                         if (d2 <= cell * cell) join(parent, v, it->second);
                     }

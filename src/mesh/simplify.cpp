@@ -43,10 +43,18 @@ namespace {
 using Face = std::array<std::uint32_t, 3>;
 using V3 = std::array<double, 3>;
 
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-V3 cross(const V3& a, const V3& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const V3& a) { return std::sqrt(dot(a, a)); }
+V3 sub(const V3& a, const V3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+V3 cross(const V3& a, const V3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const V3& a, const V3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+double norm(const V3& a) {
+    return std::sqrt(dot(a, a));
+}
 
 // A symmetric 4x4 matrix: the sum of the squared distances to planes, p^T Q p with p = (x, y, z, 1).
 struct Quadric {
@@ -57,11 +65,13 @@ struct Quadric {
         zz += weight * n[2] * n[2], zw += weight * n[2] * d, ww += weight * d * d;
     }
     void add(const Quadric& q) {
-        xx += q.xx, xy += q.xy, xz += q.xz, xw += q.xw, yy += q.yy, yz += q.yz, yw += q.yw, zz += q.zz, zw += q.zw, ww += q.ww;
+        xx += q.xx, xy += q.xy, xz += q.xz, xw += q.xw, yy += q.yy, yz += q.yz, yw += q.yw, zz += q.zz, zw += q.zw,
+            ww += q.ww;
     }
     double at(const V3& p) const {
         const double x = p[0], y = p[1], z = p[2];
-        return x * (xx * x + 2 * (xy * y + xz * z + xw)) + y * (yy * y + 2 * (yz * z + yw)) + z * (zz * z + 2 * zw) + ww;
+        return x * (xx * x + 2 * (xy * y + xz * z + xw)) + y * (yy * y + 2 * (yz * z + yw)) + z * (zz * z + 2 * zw) +
+               ww;
     }
 };
 
@@ -90,7 +100,9 @@ struct Seen {
 };
 
 // Twice the signed area of the triangle a, b, c across n (positive: counter-clockwise about n).
-double cross2(const Seen& a, const Seen& b, const Seen& c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+double cross2(const Seen& a, const Seen& b, const Seen& c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
 
 // A direction's angle around the origin, as a number from -2 to 2 that grows with it (cheaper
 // than atan2; only the order matters).
@@ -167,7 +179,7 @@ Plane face_plane(const std::vector<std::array<float, 3>>& position, const Face& 
 // touches, so blocks run in any order, at once, with the same result.
 struct Shared {
     const std::vector<std::array<float, 3>>& position;
-    std::vector<Face>& faces;         // current faces
+    std::vector<Face>& faces; // current faces
     // Per vertex, where its quadric, area and original unit normal are in `stored` (after the
     // first pass: every vertex left; during it, the vertices blocks share). The first pass gives
     // each block a range of slots for the vertices only it has, so they go straight there; the
@@ -175,16 +187,16 @@ struct Shared {
     std::vector<std::uint32_t> slot;
     std::unique_ptr<PlaneSums[]> stored;
     std::vector<char> face_alive;
-    std::vector<float> face_error;    // how far the original surface it stands for may be
-    std::vector<char> locked;         // vertices that never move
-    std::vector<char> outside; // per vertex, this pass: faces in other blocks, or in none
+    std::vector<float> face_error; // how far the original surface it stands for may be
+    std::vector<char> locked;      // vertices that never move
+    std::vector<char> outside;     // per vertex, this pass: faces in other blocks, or in none
     double bound = 0;
 };
 
 // One thread's workspace: loads a block of faces (in local numbers, with the faces around each
 // vertex) and simplifies it. Reused from block to block, so its buffers are allocated once.
 class Block {
-public:
+  public:
     explicit Block(Shared& s) : s_(s) {}
 
     void load(const std::uint32_t* face_ids, std::size_t count) {
@@ -218,7 +230,8 @@ public:
             for (const std::uint32_t v : f) ++size_[v];
         begin_.resize(n), capacity_.resize(n);
         std::uint32_t at = 0;
-        for (std::size_t v = 0; v < n; ++v) begin_[v] = at, capacity_[v] = size_[v] + 4, at += capacity_[v], size_[v] = 0;
+        for (std::size_t v = 0; v < n; ++v)
+            begin_[v] = at, capacity_[v] = size_[v] + 4, at += capacity_[v], size_[v] = 0;
         pool_.resize(at);
         for (std::uint32_t f = 0; f < count; ++f)
             for (const std::uint32_t v : face_[f]) pool_[begin_[v] + size_[v]++] = f;
@@ -250,7 +263,7 @@ public:
             const std::uint32_t g = global_[v];
             if (s_.outside[g]) continue; // shares faces with another block, or with none this pass: held
             interior_[v] = 1;
-            if (!simple_fan(v)) continue;            // a sheet touching itself here, or worse
+            if (!simple_fan(v)) continue; // a sheet touching itself here, or worse
             target_[v] = 1;
             movable_[v] = !s_.locked[g];
         }
@@ -258,8 +271,10 @@ public:
             sum_planes();
             for (std::uint32_t v = 0; v < n; ++v) {
                 const std::uint32_t g = global_[v];
-                if (interior_[v]) unit_normal(reference_[v]);
-                else reference_[v] = s_.stored[s_.slot[g]].reference;
+                if (interior_[v])
+                    unit_normal(reference_[v]);
+                else
+                    reference_[v] = s_.stored[s_.slot[g]].reference;
             }
         } else {
             quadric_.resize(n), weight_.resize(n), reference_.resize(n);
@@ -290,12 +305,14 @@ public:
         for (std::uint32_t v = 0; v < n; ++v) {
             const std::uint32_t g = global_[v];
             if (!interior_[v] || !alive_[v]) continue;
-            if (first_pass) s_.slot[g] = first_slot, s_.stored[first_slot++] = {quadric_[v], weight_[v], reference_[v]};
-            else if (target_[v]) s_.stored[s_.slot[g]].quadric = quadric_[v], s_.stored[s_.slot[g]].weight = weight_[v];
+            if (first_pass)
+                s_.slot[g] = first_slot, s_.stored[first_slot++] = {quadric_[v], weight_[v], reference_[v]};
+            else if (target_[v])
+                s_.stored[s_.slot[g]].quadric = quadric_[v], s_.stored[s_.slot[g]].weight = weight_[v];
         }
     }
 
-private:
+  private:
     struct Entry {
         double cost;
         std::uint32_t vertex, stamp;
@@ -321,8 +338,10 @@ private:
         for (std::uint32_t i = 0; i < size_[v]; ++i)
             for (const std::uint32_t w : face_[around[i]]) {
                 if (w == v) continue;
-                if (tag_[w] != tag_now_) tag_[w] = tag_now_, slot_[w] = std::uint32_t(next - out.data()), *next++ = {w, 1};
-                else ++out[slot_[w]].uses;
+                if (tag_[w] != tag_now_)
+                    tag_[w] = tag_now_, slot_[w] = std::uint32_t(next - out.data()), *next++ = {w, 1};
+                else
+                    ++out[slot_[w]].uses;
             }
         out.resize(std::size_t(next - out.data()));
     }
@@ -403,8 +422,9 @@ private:
                 if (c <= s_.bound * s_.bound) candidates_.push_back({c, n.vertex, 0});
             }
         if (candidates_.empty()) return;
-        std::sort(candidates_.begin(), candidates_.end(),
-                  [](const Entry& a, const Entry& b) { return a.cost != b.cost ? a.cost < b.cost : a.vertex < b.vertex; });
+        std::sort(candidates_.begin(), candidates_.end(), [](const Entry& a, const Entry& b) {
+            return a.cost != b.cost ? a.cost < b.cost : a.vertex < b.vertex;
+        });
         if (candidates_[0].cost > queued_cost * (1 + 1e-6) + 1e-30) {
             ++stamp_[u];
             queued_[u] = 1;
@@ -426,7 +446,8 @@ private:
                 break;
             }
         }
-        std::stable_sort(candidates_.begin(), candidates_.end(), [](const Entry& a, const Entry& b) { return a.cost < b.cost; });
+        std::stable_sort(candidates_.begin(), candidates_.end(),
+                         [](const Entry& a, const Entry& b) { return a.cost < b.cost; });
         for (const Entry& c : candidates_) {
             if (c.cost == std::numeric_limits<double>::infinity()) return;
             if (!topology_allows(u, c.vertex)) continue;
@@ -511,14 +532,13 @@ private:
         const bool border = other != u;
         const Seen& first = old_fan_[start].first;
         std::size_t reached = 0;
-        for (const auto& [sa, sb] : old_fan_)
-            reached += cross2(su, sa, first) > 0 && cross2(su, first, sb) >= 0;
+        for (const auto& [sa, sb] : old_fan_) reached += cross2(su, sa, first) > 0 && cross2(su, first, sb) >= 0;
         if (reached != (border ? 0 : 1)) return false;
         // Per new face: the largest height between the stars over it, at u and at the crossings.
         const std::size_t m = new_fan_.size();
         step_.assign(m, 0);
         for (const auto& [sa, sb] : old_fan_)
-            for (const Seen* a : {&sa, &sb}) { // the edges from u; inner ones twice: harmless
+            for (const Seen* a : {&sa, &sb}) {                   // the edges from u; inner ones twice: harmless
                 const double v_side = a->x * sv.y - a->y * sv.x; // v's side of the line u-a
                 for (std::size_t j = 0; j < m; ++j)
                     for (const Seen* w : {&new_fan_[j].first, &new_fan_[j].second}) {
@@ -586,13 +606,14 @@ private:
             double border_error = 0;
             for (std::size_t i = 0; i < old_fan_.size(); ++i) {
                 const auto& [sa, sb] = old_fan_[i];
-                if ((sa.x == sv.x && sa.y == sv.y) || (sb.x == sv.x && sb.y == sv.y) || (sa.x == so.x && sa.y == so.y) ||
-                    (sb.x == so.x && sb.y == so.y))
+                if ((sa.x == sv.x && sa.y == sv.y) || (sb.x == sv.x && sb.y == sv.y) ||
+                    (sa.x == so.x && sa.y == so.y) || (sb.x == so.x && sb.y == so.y))
                     border_error = std::max(border_error, old_error_[i]);
             }
             const double uv = norm(sub(pu, pv)), uo = norm(sub(pu, po));
             const double along = uv + uo > 0 ? uv / (uv + uo) : 0.5;
-            const V3 foot{pv[0] + along * (po[0] - pv[0]), pv[1] + along * (po[1] - pv[1]), pv[2] + along * (po[2] - pv[2])};
+            const V3 foot{pv[0] + along * (po[0] - pv[0]), pv[1] + along * (po[1] - pv[1]),
+                          pv[2] + along * (po[2] - pv[2])};
             const double across = segment_distance(foot, pv, pu);
             for (std::size_t j = 0; j < m; ++j)
                 if (overlap(sv, new_fan_[j].first, new_fan_[j].second, sv, so, su))
@@ -604,8 +625,10 @@ private:
     // Whether two triangles overlap with some area, as seen along n: no edge of either has the
     // other wholly on its outer side (separating axes, for convex polygons). A triangle with no
     // area overlaps nothing.
-    static bool overlap(const Seen& a0, const Seen& a1, const Seen& a2, const Seen& b0, const Seen& b1, const Seen& b2) {
-        const auto counter_clockwise = [](const Seen& p, const Seen& q, const Seen& r, std::array<const Seen*, 3>& out) {
+    static bool overlap(const Seen& a0, const Seen& a1, const Seen& a2, const Seen& b0, const Seen& b1,
+                        const Seen& b2) {
+        const auto counter_clockwise = [](const Seen& p, const Seen& q, const Seen& r,
+                                          std::array<const Seen*, 3>& out) {
             const double area = cross2(p, q, r);
             const double scale = std::max({(q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y),
                                            (r.x - p.x) * (r.x - p.x) + (r.y - p.y) * (r.y - p.y), 1e-300});
@@ -658,7 +681,8 @@ private:
             }
             const V3 n_now = cross(sub(*now[1], *now[0]), sub(*now[2], *now[0]));
             double longest = 0;
-            for (int k = 0; k < 3; ++k) longest = std::max(longest, dot(sub(*now[k], *now[(k + 1) % 3]), sub(*now[k], *now[(k + 1) % 3])));
+            for (int k = 0; k < 3; ++k)
+                longest = std::max(longest, dot(sub(*now[k], *now[(k + 1) % 3]), sub(*now[k], *now[(k + 1) % 3])));
             const double len_now = norm(n_now);
             if (!(len_now > min_area_ratio * longest)) return false;
             if (!(dot(n_now, reference) > min_cos_original * len_now * norm(reference))) return false;
@@ -696,7 +720,8 @@ private:
             const auto has_both = [&](std::uint32_t x) {
                 for (std::uint32_t i = 0; i < size_[x]; ++i) {
                     const Face& f = face_[fan(x)[i]];
-                    if (std::find(f.begin(), f.end(), opposite_[0]) != f.end() && std::find(f.begin(), f.end(), opposite_[1]) != f.end())
+                    if (std::find(f.begin(), f.end(), opposite_[0]) != f.end() &&
+                        std::find(f.begin(), f.end(), opposite_[1]) != f.end())
                         return true;
                 }
                 return false;
@@ -753,7 +778,7 @@ private:
 
     Shared& s_;
     std::vector<std::uint32_t> global_face_, global_; // local face and vertex -> global
-    std::vector<Face> face_;                           // in local vertex numbers
+    std::vector<Face> face_;                          // in local vertex numbers
     std::vector<char> face_alive_;
     std::vector<std::uint32_t> pool_, begin_, size_, capacity_; // the faces around each vertex
     std::vector<char> interior_, movable_, target_, alive_, queued_;
@@ -810,8 +835,11 @@ void cut_into_blocks(const Shared& s, const std::vector<char>& active, const V3&
     const auto key = [&](std::size_t f) {
         std::uint64_t k = 0;
         for (int a = 2; a >= 0; --a) {
-            const double c = (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) / 3;
-            k = k * dims[a] + std::min<std::uint64_t>(dims[a] - 1, std::uint64_t(std::max(0.0, (c - lo[a]) / edge + shift)));
+            const double c =
+                (double(s.position[s.faces[f][0]][a]) + s.position[s.faces[f][1]][a] + s.position[s.faces[f][2]][a]) /
+                3;
+            k = k * dims[a] +
+                std::min<std::uint64_t>(dims[a] - 1, std::uint64_t(std::max(0.0, (c - lo[a]) / edge + shift)));
         }
         return k;
     };
@@ -886,13 +914,16 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     for (int pass = 0; pass < passes && block_edge > 0; ++pass) {
         cut_into_blocks(s, active, lo, hi, block_edge, pass % 2 ? 0.5 : 0.0, order, starts);
         const std::size_t blocks = starts.size() - 1;
-        std::vector<std::uint32_t> owner(nv, nobody); // the first block to use each vertex (released before the blocks run)
+        std::vector<std::uint32_t> owner(nv,
+                                         nobody); // the first block to use each vertex (released before the blocks run)
         std::fill(held.begin(), held.end(), 0);
         for (std::size_t b = 0; b < blocks; ++b)
             for (std::size_t i = starts[b]; i < starts[b + 1]; ++i)
                 for (const std::uint32_t v : s.faces[order[i]]) {
-                    if (owner[v] == nobody) owner[v] = std::uint32_t(b);
-                    else if (owner[v] != b) held[v] = 1;
+                    if (owner[v] == nobody)
+                        owner[v] = std::uint32_t(b);
+                    else if (owner[v] != b)
+                        held[v] = 1;
                 }
         s.outside = held;
         if (pass > 0) // faces left out of this pass hold their vertices too
@@ -905,8 +936,10 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
         if (pass == 0) {
             std::uint32_t shared = 0;
             for (std::uint32_t v = 0; v < nv; ++v)
-                if (held[v]) s.slot[v] = shared++;
-                else if (owner[v] != nobody) ++first_slot[owner[v] + 1];
+                if (held[v])
+                    s.slot[v] = shared++;
+                else if (owner[v] != nobody)
+                    ++first_slot[owner[v] + 1];
             first_slot[0] = shared;
             for (std::size_t b = 0; b < blocks; ++b) first_slot[b + 1] += first_slot[b];
             s.stored.reset(new PlaneSums[first_slot[blocks]]);
@@ -933,22 +966,26 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
         };
         for (int ring = 0; ring < 2; ++ring) { // held vertices, then their neighbours too
             std::vector<char> near = held;
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
-                for (std::size_t f = range.begin(); f < range.end(); ++f)
-                    if (touches(f))
-                        for (const std::uint32_t v : s.faces[f]) std::atomic_ref<char>(near[v]).store(1, std::memory_order_relaxed);
-            });
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  for (std::size_t f = range.begin(); f < range.end(); ++f)
+                                      if (touches(f))
+                                          for (const std::uint32_t v : s.faces[f])
+                                              std::atomic_ref<char>(near[v]).store(1, std::memory_order_relaxed);
+                              });
             held.swap(near);
         }
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
-            for (std::size_t f = range.begin(); f < range.end(); ++f) active[f] = touches(f);
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t f = range.begin(); f < range.end(); ++f) active[f] = touches(f);
+                          });
     }
 
     std::size_t kept = 0;
     double reached = 0;
     for (std::size_t f = 0; f < nf; ++f)
-        if (s.face_alive[f]) mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
+        if (s.face_alive[f])
+            mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
     mesh.triangles.resize(kept);
     // What the passes held goes before the clean-up takes its own.
     s.stored.reset();

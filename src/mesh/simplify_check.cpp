@@ -42,7 +42,8 @@ std::size_t count_bad_edges(const Mesh& m) {
         }
     std::size_t bad = 0;
     std::sort(directed.begin(), directed.end());
-    for (std::size_t i = 1; i < directed.size(); ++i) bad += directed[i] == directed[i - 1] && (i == 1 || directed[i - 2] != directed[i]);
+    for (std::size_t i = 1; i < directed.size(); ++i)
+        bad += directed[i] == directed[i - 1] && (i == 1 || directed[i - 2] != directed[i]);
     std::sort(undirected.begin(), undirected.end());
     for (std::size_t i = 2; i < undirected.size(); ++i)
         bad += undirected[i] == undirected[i - 2] && (i == 2 || undirected[i - 3] != undirected[i]);

@@ -17,10 +17,10 @@
 // an inactive neighbour are then not sampled at all.
 #pragma once
 
-#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/mesh/marching_cubes_table.hpp"
+#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/mesh.hpp"
+#include "lasmesh/mesh/marching_cubes_table.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -52,7 +52,8 @@ struct StoredSample {
         return {s.value, s.source | std::uint32_t{s.defined} << 31 | std::uint32_t{s.inside} << 30};
     }
     FieldSample sample() const {
-        return {value, source_and_flags & (source_limit - 1), (source_and_flags >> 31) != 0, ((source_and_flags >> 30) & 1) != 0};
+        return {value, source_and_flags & (source_limit - 1), (source_and_flags >> 31) != 0,
+                ((source_and_flags >> 30) & 1) != 0};
     }
 };
 
@@ -85,7 +86,7 @@ struct LatticeBricks {
 // void vertex(p, axis, a, b, VertexOut&) for the crossing on the edge from p along axis.
 template <class Field>
 class SparseMarchingCubes {
-public:
+  public:
     SparseMarchingCubes(const Field& field, const LatticeBricks& lattice) : f_(field), l_(lattice) {}
 
     // `sampled`, when given, is called once the field's samplers are done with (after pass 0, for
@@ -114,7 +115,8 @@ public:
             for (int p = 0; p < cells; ++p) {
                 const FieldSample s = sampler.sample(origin[0] + p % B, origin[1] + p / B % B, origin[2] + p / (B * B));
                 if (s.source >= StoredSample::source_limit)
-                    throw Error(ErrorKind::usage, "the surface has more than 2^30 sources (cells); use a smaller --grid");
+                    throw Error(ErrorKind::usage,
+                                "the surface has more than 2^30 sources (cells); use a smaller --grid");
                 block[p] = StoredSample::of(s);
                 any_defined |= s.defined;
             }
@@ -184,8 +186,8 @@ public:
                 for (const auto& tri : table.triangles[brick.cube_case(p)]) {
                     for (int k = 0; k < 3; ++k) {
                         const int e = tri[k], corner = edges.corners[e][0];
-                        mesh.triangles[t][k] =
-                            vertex_id(q[0] + (corner & 1), q[1] + ((corner >> 1) & 1), q[2] + ((corner >> 2) & 1), e / 4);
+                        mesh.triangles[t][k] = vertex_id(q[0] + (corner & 1), q[1] + ((corner >> 1) & 1),
+                                                         q[2] + ((corner >> 2) & 1), e / 4);
                     }
                     ++t;
                 }
@@ -194,7 +196,7 @@ public:
         return mesh;
     }
 
-private:
+  private:
     static constexpr std::int64_t B = LatticeBricks::size;
     static constexpr int cells = B * B * B;
     static constexpr std::int64_t S = B + 2; // samples per axis: the brick and one more each side
@@ -216,33 +218,42 @@ private:
         Brick(const SparseMarchingCubes& owner, std::size_t index) : m(owner) {
             const auto& l = owner.l_;
             origin = owner.origin_of(l.active[index]);
-            constexpr bool undefined_outside = requires { requires Field::undefined_outside_active; };
+            constexpr bool undefined_outside = requires {
+                requires Field::undefined_outside_active;
+            };
             std::array<bool, S * S * S> to_sample{}; // points of inactive neighbours, for the field
             bool any_to_sample = false;
             // The window's part in neighbour (dx, dy, dz) of the brick: local -1, 0 .. B-1, or B.
             for (int dz = -1; dz <= 1; ++dz)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
-                        const std::array<std::int64_t, 3> brick{origin[0] / B + dx, origin[1] / B + dy, origin[2] / B + dz};
-                        const bool in_lattice = brick[0] >= 0 && brick[1] >= 0 && brick[2] >= 0 && brick[0] < l.bricks[0] &&
-                                                brick[1] < l.bricks[1] && brick[2] < l.bricks[2];
-                        const std::uint32_t slot = in_lattice ? owner.slot_.find(l.key(brick[0], brick[1], brick[2])) : 0;
+                        const std::array<std::int64_t, 3> brick{origin[0] / B + dx, origin[1] / B + dy,
+                                                                origin[2] / B + dz};
+                        const bool in_lattice = brick[0] >= 0 && brick[1] >= 0 && brick[2] >= 0 &&
+                                                brick[0] < l.bricks[0] && brick[1] < l.bricks[1] &&
+                                                brick[2] < l.bricks[2];
+                        const std::uint32_t slot =
+                            in_lattice ? owner.slot_.find(l.key(brick[0], brick[1], brick[2])) : 0;
                         const std::uint32_t block = slot ? owner.block_of_[slot - 1] : no_block;
-                        const StoredSample* from = block != no_block ? owner.blocks_.get() + std::size_t{block} * cells : nullptr;
+                        const StoredSample* from =
+                            block != no_block ? owner.blocks_.get() + std::size_t{block} * cells : nullptr;
                         // An active brick without a block has no defined sample.
                         const bool known = slot != 0;
                         const std::array<int, 3> d{dx, dy, dz};
                         std::array<std::int64_t, 3> lo{}, hi{};
-                        for (int a = 0; a < 3; ++a) lo[a] = d[a] < 0 ? -1 : d[a] == 0 ? 0 : B, hi[a] = d[a] < 0 ? -1 : d[a] == 0 ? B - 1 : B;
+                        for (int a = 0; a < 3; ++a)
+                            lo[a] = d[a] < 0 ? -1 : d[a] == 0 ? 0 : B, hi[a] = d[a] < 0 ? -1 : d[a] == 0 ? B - 1 : B;
                         for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
                             for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
                                 for (std::int64_t x = lo[0]; x <= hi[0]; ++x) {
                                     const std::size_t at = static_cast<std::size_t>(((z + 1) * S + y + 1) * S + x + 1);
                                     if (from) {
-                                        samples[at] = from[((z - dz * B) * B + (y - dy * B)) * B + (x - dx * B)].sample();
+                                        samples[at] =
+                                            from[((z - dz * B) * B + (y - dy * B)) * B + (x - dx * B)].sample();
                                     } else {
                                         samples[at] = {}; // undefined, unless the field is asked below
-                                        if (in_lattice && !known && !undefined_outside) to_sample[at] = any_to_sample = true;
+                                        if (in_lattice && !known && !undefined_outside)
+                                            to_sample[at] = any_to_sample = true;
                                     }
                                 }
                     }
@@ -362,7 +373,8 @@ inline LatticeBricks lattice_near_bricks(const DensityGrid& grid, const std::vec
         for (std::int64_t z = bz - reach; z <= bz + 1; ++z)
             for (std::int64_t y = by - reach; y <= by + 1; ++y)
                 for (std::int64_t x = bx - reach; x <= bx + 1; ++x)
-                    if (x >= 0 && y >= 0 && z >= 0 && x < lattice.bricks[0] && y < lattice.bricks[1] && z < lattice.bricks[2])
+                    if (x >= 0 && y >= 0 && z >= 0 && x < lattice.bricks[0] && y < lattice.bricks[1] &&
+                        z < lattice.bricks[2])
                         active.push_back(lattice.key(x, y, z));
     }
     std::sort(active.begin(), active.end());
@@ -376,7 +388,8 @@ inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::
 }
 
 template <class Field>
-Mesh march_sparse(const Field& field, const LatticeBricks& lattice, bool colored, const std::function<void()>& sampled = {}) {
+Mesh march_sparse(const Field& field, const LatticeBricks& lattice, bool colored,
+                  const std::function<void()>& sampled = {}) {
     return SparseMarchingCubes<Field>(field, lattice).run(colored, sampled);
 }
 

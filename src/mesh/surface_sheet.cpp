@@ -21,7 +21,9 @@ namespace {
 using Vec = std::array<double, 3>;
 constexpr std::uint32_t no_plane = UINT32_MAX;
 
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot(const Vec& a, const Vec& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // The normal of the plane that fits a covariance best: the unit eigenvector of its smallest
 // eigenvalue, by cyclic Jacobi rotations (deterministic, and accurate for the nearly flat
@@ -148,9 +150,9 @@ bool along_plane(const Planes& planes, std::uint32_t p, std::uint32_t q) {
 // neighbours). The inside of a closed box or of a sphere is never reached, nor the space under a
 // deck or a terrain that spans the grid: their top sides are outside.
 struct Outside {
-    int shift = 0;                       // a voxel is 2^shift cells
-    std::array<std::int64_t, 3> size{};  // voxels per axis, with one voxel of margin all round
-    std::vector<char> reached;           // per voxel, x fastest
+    int shift = 0;                      // a voxel is 2^shift cells
+    std::array<std::int64_t, 3> size{}; // voxels per axis, with one voxel of margin all round
+    std::vector<char> reached;          // per voxel, x fastest
 
     explicit Outside(const Planes& planes) {
         const auto& dims = planes.grid.spec.dims;
@@ -172,7 +174,8 @@ struct Outside {
         std::vector<std::array<std::int64_t, 3>> queue;
         for (std::int64_t y = 0; y < size[1]; ++y)
             for (std::int64_t x = 0; x < size[0]; ++x)
-                if (const std::array<std::int64_t, 3> v{x, y, size[2] - 1}; !wall[index(v)]) reached[index(v)] = 1, queue.push_back(v);
+                if (const std::array<std::int64_t, 3> v{x, y, size[2] - 1}; !wall[index(v)])
+                    reached[index(v)] = 1, queue.push_back(v);
         for (std::size_t i = 0; i < queue.size(); ++i)
             for (int a = 0; a < 3; ++a)
                 for (const int d : {-1, 1}) {
@@ -247,7 +250,7 @@ void orient_normals(Planes& planes, const Outside& outside) {
         piece.clear();
         parent[seed] = seed;
         buckets[levels].push_back(seed);
-        double votes = 0;            // point counts of the planes whose outside is their normal's side now, less the others'
+        double votes = 0; // point counts of the planes whose outside is their normal's side now, less the others'
         std::int8_t outside_side = 0; // that side, as the piece's first plane to see one saw it
         for (int level = levels; level >= 0;) {
             if (buckets[level].empty()) {
@@ -303,7 +306,8 @@ void orient_normals(Planes& planes, const Outside& outside) {
         }
         const bool encloses = std::abs(outward) > 0.5 * weight;
         if (votes != 0 ? votes < 0 : encloses ? outward < 0 : up < 0)
-            for (std::uint32_t p : piece) planes.normal[p] = {-planes.normal[p][0], -planes.normal[p][1], -planes.normal[p][2]};
+            for (std::uint32_t p : piece)
+                planes.normal[p] = {-planes.normal[p][0], -planes.normal[p][1], -planes.normal[p][2]};
     }
 }
 
@@ -329,13 +333,16 @@ void face_outside(Mesh& mesh, const Outside& outside, double cell) {
     for (const auto& t : mesh.triangles) {
         Vec p[3];
         for (int k = 0; k < 3; ++k) p[k] = {mesh.positions[t[k]][0], mesh.positions[t[k]][1], mesh.positions[t[k]][2]};
-        const Vec u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]}, w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+        const Vec u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]},
+            w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
         Vec normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
         const double twice_area = std::sqrt(dot(normal, normal));
         if (!(twice_area > 0)) continue;
         for (double& c : normal) c /= twice_area;
-        const Vec centre{(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3, (p[0][2] + p[1][2] + p[2][2]) / 3};
-        const bool front = outside.open(centre, normal, cell), back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
+        const Vec centre{(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
+                         (p[0][2] + p[1][2] + p[2][2]) / 3};
+        const bool front = outside.open(centre, normal, cell),
+                   back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
         if (front != back) votes[find(t[0])] += front ? twice_area : -twice_area;
     }
     std::vector<char> turn(nv, 0);
@@ -394,7 +401,9 @@ struct SheetField {
                 for (std::int64_t cz = z - 2; cz <= z + 1; ++cz)
                     for (std::int64_t cy = y - 2; cy <= y + 1; ++cy)
                         // Only the cells with a plane, in the same order (x rising).
-                        for (unsigned bits = (row[static_cast<std::size_t>((cz - first[2]) * span + (cy - first[1]))] >> (x - 2 - first[0])) & 0xFu;
+                        for (unsigned bits = (row[static_cast<std::size_t>((cz - first[2]) * span + (cy - first[1]))] >>
+                                              (x - 2 - first[0])) &
+                                             0xFu;
                              bits != 0; bits &= bits - 1)
                             consider(x - 2 + std::countr_zero(bits), cy, cz);
             if (nearest == no_plane) return {};
@@ -420,7 +429,8 @@ struct SheetField {
         for (std::int64_t bz = lo[2]; bz <= hi[2]; ++bz)
             for (std::int64_t by = lo[1]; by <= hi[1]; ++by)
                 for (std::int64_t bx = lo[0]; bx <= hi[0]; ++bx) {
-                    const std::uint32_t at = g.brick_table.find((std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx));
+                    const std::uint32_t at = g.brick_table.find(
+                        (std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx));
                     if (at == 0) continue;
                     // The brick's planes by cell (its records hold only the occupied cells).
                     std::array<std::uint32_t, DensityGrid::brick_cells> records;
@@ -428,13 +438,19 @@ struct SheetField {
                     std::uint64_t r = g.brick_first[at - 1];
                     for (std::uint64_t mask = g.brick_masks[at - 1]; mask != 0; mask &= mask - 1)
                         records[static_cast<std::size_t>(std::countr_zero(mask))] = planes.of_record[r++];
-                    for (std::int64_t z = std::max(bz * size, s.first[2]); z < std::min((bz + 1) * size, s.first[2] + s.span); ++z)
-                        for (std::int64_t y = std::max(by * size, s.first[1]); y < std::min((by + 1) * size, s.first[1] + s.span); ++y)
-                            for (std::int64_t x = std::max(bx * size, s.first[0]); x < std::min((bx + 1) * size, s.first[0] + s.span); ++x) {
-                                const std::uint32_t p = records[static_cast<std::size_t>(((z - bz * size) * size + (y - by * size)) * size + (x - bx * size))];
+                    for (std::int64_t z = std::max(bz * size, s.first[2]);
+                         z < std::min((bz + 1) * size, s.first[2] + s.span); ++z)
+                        for (std::int64_t y = std::max(by * size, s.first[1]);
+                             y < std::min((by + 1) * size, s.first[1] + s.span); ++y)
+                            for (std::int64_t x = std::max(bx * size, s.first[0]);
+                                 x < std::min((bx + 1) * size, s.first[0] + s.span); ++x) {
+                                const std::uint32_t p = records[static_cast<std::size_t>(
+                                    ((z - bz * size) * size + (y - by * size)) * size + (x - bx * size))];
                                 if (p == no_plane) continue;
-                                const std::size_t row = static_cast<std::size_t>((z - s.first[2]) * s.span + (y - s.first[1]));
-                                s.plane[row * static_cast<std::size_t>(s.span) + static_cast<std::size_t>(x - s.first[0])] = p;
+                                const std::size_t row =
+                                    static_cast<std::size_t>((z - s.first[2]) * s.span + (y - s.first[1]));
+                                s.plane[row * static_cast<std::size_t>(s.span) +
+                                        static_cast<std::size_t>(x - s.first[0])] = p;
                                 s.row[row] = static_cast<std::uint16_t>(s.row[row] | 1u << (x - s.first[0]));
                                 s.empty = false;
                             }
@@ -461,7 +477,8 @@ struct SheetField {
         // tenth of the edge from either corner, so that no triangle shrinks below what the
         // outputs' quantization (a tenth of a cell by default) keeps apart.
         const double t = std::clamp(static_cast<double>(a.value) / (static_cast<double>(a.value) - b.value), 0.1, 0.9);
-        for (int c = 0; c < 3; ++c) out.position[c] = static_cast<float>((static_cast<double>(p[c]) + (c == axis ? t : 0.0)) * h);
+        for (int c = 0; c < 3; ++c)
+            out.position[c] = static_cast<float>((static_cast<double>(p[c]) + (c == axis ? t : 0.0)) * h);
         const Vec& na = planes.normal[a.source];
         const Vec& nb = planes.normal[b.source];
         Vec n{(1 - t) * na[0] + t * nb[0], (1 - t) * na[1] + t * nb[1], (1 - t) * na[2] + t * nb[2]};
@@ -470,7 +487,8 @@ struct SheetField {
         if (!planes.color.empty()) {
             const Rgb8& ca = planes.color[a.source];
             const Rgb8& cb = planes.color[b.source];
-            for (int c = 0; c < 3; ++c) out.color[c] = static_cast<std::uint8_t>(std::lround((1 - t) * ca[c] + t * cb[c]));
+            for (int c = 0; c < 3; ++c)
+                out.color[c] = static_cast<std::uint8_t>(std::lround((1 - t) * ca[c] + t * cb[c]));
         }
     }
 };
@@ -487,12 +505,14 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
     std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
     std::vector<std::uint64_t>().swap(planes.count);
-    const SheetField field{planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
+    const SheetField field{
+        planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
     // Corners are sampled only near surface cells: the bricks that hold one, and their neighbours.
     std::vector<std::uint64_t> surface_bricks;
     for (std::uint64_t b = 0; b < grid.brick_keys.size(); ++b) {
         const auto first = planes.of_record.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[b]);
-        if (std::any_of(first, first + std::popcount(grid.brick_masks[b]), [](std::uint32_t p) { return p != no_plane; }))
+        if (std::any_of(first, first + std::popcount(grid.brick_masks[b]),
+                        [](std::uint32_t p) { return p != no_plane; }))
             surface_bricks.push_back(grid.brick_keys[b]);
     }
     // Once sampled, the corners no longer look at cells: what finds a cell's plane may go.
@@ -500,9 +520,11 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
         std::vector<std::uint32_t>().swap(planes.of_record);
         if (!owned) return;
         owned->brick_table = BrickTable();
-        for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first}) std::vector<std::uint64_t>().swap(*v);
+        for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first})
+            std::vector<std::uint64_t>().swap(*v);
     };
-    Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1), grid.has_color(), sampled);
+    Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1),
+                                     grid.has_color(), sampled);
     agree_normals_with_faces(mesh);
     face_outside(mesh, outside, grid.spec.cell_size);
     mesh.origin = grid.spec.origin;
@@ -512,7 +534,9 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
 
 } // namespace
 
-Mesh extract_sheet(const DensityGrid& grid, double iso) { return extract(grid, iso, nullptr); }
+Mesh extract_sheet(const DensityGrid& grid, double iso) {
+    return extract(grid, iso, nullptr);
+}
 
 Mesh extract_sheet(DensityGrid&& grid, double iso) {
     return extract(grid, iso, &grid);

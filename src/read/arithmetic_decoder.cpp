@@ -7,7 +7,6 @@
 
 namespace lasmesh::laz {
 
-
 void BitModel::update() {
     bit_count += update_cycle;
     if (bit_count > bit_max_count) {

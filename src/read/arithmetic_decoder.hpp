@@ -46,7 +46,7 @@ struct BitModel {
 // format-3 point touches (up to 3 KB each for 256 symbols, dozens of them) overflowed the 48 KB
 // L1 cache about 3 times per point (cachegrind).
 class SymbolModel {
-public:
+  public:
     // A fresh model of `symbols` symbols, its memory from `store` and given back there.
     SymbolModel(std::uint32_t symbols, ModelStore& store);
     SymbolModel(SymbolModel&&) noexcept = default; // the block moves, the pointers stay valid
@@ -71,7 +71,7 @@ public:
     std::uint32_t total_count = 0;
     std::uint32_t update_cycle = 0;
 
-private:
+  private:
     friend class ModelStore;
     struct Fresh {};
     SymbolModel(std::uint32_t symbols, Fresh); // builds it
@@ -92,7 +92,7 @@ struct ModelSize {
 // model of its size (malloc and free were a quarter of COPC's profile). Owned by whoever decodes
 // chunks on a thread, one after another; it outlives their models.
 class ModelStore {
-public:
+  public:
     ModelStore() = default;
     ModelStore(const ModelStore&) = delete;
     ModelStore& operator=(const ModelStore&) = delete;
@@ -100,22 +100,22 @@ public:
     // The fresh model and the spare memory for models of `symbols` symbols (made on first use).
     ModelSize& size(std::uint32_t symbols);
 
-private:
-    std::deque<ModelSize> sizes_;         // a dozen or so (the item decoders' constants); they stay in place
+  private:
+    std::deque<ModelSize> sizes_;        // a dozen or so (the item decoders' constants); they stay in place
     std::vector<ModelSize*> by_symbols_; // index: the number of symbols
 };
 
 // A SymbolModel built on first use: a chunk of a few points (COPC nodes) would otherwise spend
 // its time building models for values that never occur in it.
 class LazySymbolModel {
-public:
+  public:
     explicit LazySymbolModel(std::uint32_t symbols) : symbols_(symbols) {}
     SymbolModel& get(ModelStore& store) {
         if (!model_) model_ = std::make_unique<SymbolModel>(symbols_, store);
         return *model_;
     }
 
-private:
+  private:
     std::uint32_t symbols_;
     std::unique_ptr<SymbolModel> model_;
 };
@@ -128,7 +128,7 @@ private:
 // in memory (GCC did that to renormalize, decode_bit and read_bits in the unity build: format 3
 // decoded 15% slower).
 class ArithmeticDecoder {
-public:
+  public:
     ArithmeticDecoder() = default;
     // A decoder with nothing to decode (an absent layer), its models made in `store`.
     explicit ArithmeticDecoder(ModelStore& store) : store_(&store) {}
@@ -147,7 +147,7 @@ public:
     std::size_t position() const { return pos_; }
     bool overrun() const { return pos_ > size_; }
 
-private:
+  private:
     std::uint32_t next_byte() {
         std::uint32_t b = pos_ < size_ ? std::to_integer<std::uint32_t>(data_[pos_]) : 0u;
         ++pos_;
@@ -183,13 +183,13 @@ private:
 // correction's bit length k with a symbol model per context, then its value within the
 // 2^(k-1)-wide bucket (low bits raw above `bits_high`). `bits` is the width of the values.
 class IntegerDecoder {
-public:
+  public:
     IntegerDecoder(std::uint32_t bits = 16, std::uint32_t contexts = 1, std::uint32_t bits_high = 8);
     std::int32_t decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context = 0);
     // The bit length of the last correction: later fields use it as context.
     std::uint32_t k() const { return k_; }
 
-private:
+  private:
     std::int32_t read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model);
 
     std::uint32_t corr_bits_;
@@ -297,11 +297,14 @@ inline SymbolModel& IntegerDecoder::corrector(std::uint32_t k, ModelStore& store
     return bit;
 }
 
-inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint32_t dv, std::uint32_t s, std::uint32_t n) {
+inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint32_t dv, std::uint32_t s,
+                                               std::uint32_t n) {
     while (n > s + 1) {
         const std::uint32_t k = (s + n) >> 1;
-        if (d[k] > dv) n = k;
-        else s = k;
+        if (d[k] > dv)
+            n = k;
+        else
+            s = k;
     }
     return s;
 }
@@ -373,7 +376,8 @@ inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint
     return read_short_bits(bits);
 }
 
-[[gnu::always_inline]] inline std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec, SymbolModel& bits_model) {
+[[gnu::always_inline]] inline std::int32_t IntegerDecoder::read_corrector(ArithmeticDecoder& dec,
+                                                                          SymbolModel& bits_model) {
     k_ = dec.decode_symbol(bits_model);
     if (k_ == 0) return static_cast<std::int32_t>(dec.decode_bit(corrector0_)); // 0 or 1
     if (k_ >= 32) return corr_min_;
@@ -394,7 +398,8 @@ inline std::uint32_t ArithmeticDecoder::search(const std::uint16_t* d, std::uint
     return static_cast<std::int32_t>(c + 1u - ((half << 1) & lower));
 }
 
-[[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction, std::uint32_t context) {
+[[gnu::always_inline]] inline std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction,
+                                                                  std::uint32_t context) {
     const std::int32_t corr = read_corrector(dec, bits_model(context, dec.store()));
     // Back into [0, range): below 0 add the range, at or above it subtract it (range 0 for 32-bit
     // values, which wrap by themselves). With masks: the sign of a sum is a coin flip for the

@@ -12,10 +12,10 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <limits>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -118,9 +118,9 @@ std::string decoder_message(const std::exception& e) {
         case io::gzip::bad_footer: return "gzip trailer missing or damaged (truncated?)";
         case io::gzip::zlib_error:
             // Z_BUF_ERROR (-5) at the end of input: the deflate data stops mid-stream.
-            return gzip->zlib_error_code() == -5 ? "the compressed data ends early"
-                                                 : "deflate data damaged (zlib error " +
-                                                       std::to_string(gzip->zlib_error_code()) + ")";
+            return gzip->zlib_error_code() == -5
+                       ? "the compressed data ends early"
+                       : "deflate data damaged (zlib error " + std::to_string(gzip->zlib_error_code()) + ")";
         default: break;
         }
     }
@@ -193,8 +193,8 @@ std::size_t InputStream::read(std::byte* dst, std::size_t size) {
             throw;
         } catch (const std::exception& e) {
             throw_input_error(s.name, "corrupt or truncated " + std::string(compression_name(s.compression)) +
-                                          " stream near compressed byte " + std::to_string(s.raw_position) +
-                                          ": " + decoder_message(e));
+                                          " stream near compressed byte " + std::to_string(s.raw_position) + ": " +
+                                          decoder_message(e));
         }
     }
     s.position += got;
@@ -224,10 +224,20 @@ std::uint64_t InputStream::drain() {
     return skip(std::numeric_limits<std::uint64_t>::max());
 }
 
-const std::string& InputStream::name() const { return impl_->name; }
-Compression InputStream::compression() const { return impl_->compression; }
-std::uint64_t InputStream::position() const { return impl_->position; }
-std::uint64_t InputStream::raw_position() const { return impl_->raw_position; }
-std::optional<std::uint64_t> InputStream::raw_size() const { return impl_->raw_size; }
+const std::string& InputStream::name() const {
+    return impl_->name;
+}
+Compression InputStream::compression() const {
+    return impl_->compression;
+}
+std::uint64_t InputStream::position() const {
+    return impl_->position;
+}
+std::uint64_t InputStream::raw_position() const {
+    return impl_->raw_position;
+}
+std::optional<std::uint64_t> InputStream::raw_size() const {
+    return impl_->raw_size;
+}
 
 } // namespace lasmesh

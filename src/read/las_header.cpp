@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Parsing and validation of the LAS public header block and VLRs (LAS 1.4 R15, section 2).
-#include "lasmesh/number_text.hpp"
 #include "lasmesh/read/las_header.hpp"
+#include "lasmesh/number_text.hpp"
 
 #include "lasmesh/byte_order.hpp"
 #include "lasmesh/error.hpp"
@@ -9,8 +9,8 @@
 
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 namespace lasmesh {
@@ -22,9 +22,12 @@ std::uint16_t core_record_size(int point_format) {
 
 int rgb_offset(int point_format) {
     switch (point_format) {
-    case 2: return 20;           // after the 20-byte core of format 0
-    case 3: case 5: return 28;   // after format 1's GPS time
-    case 7: case 8: case 10: return 30; // after format 6's 30-byte core
+    case 2: return 20; // after the 20-byte core of format 0
+    case 3:
+    case 5: return 28; // after format 1's GPS time
+    case 7:
+    case 8:
+    case 10: return 30; // after format 6's 30-byte core
     default: return -1;
     }
 }
@@ -77,9 +80,8 @@ void read_exactly(InputStream& in, std::byte* dst, std::size_t size, const std::
                                              " stream near compressed byte " + std::to_string(in.raw_position()) +
                                              ": it decompresses to nothing");
         if (at == 0 && got == 0) throw_input_error(in.name(), "is empty, expected a LAS file");
-        throw_input_error(in.name(), "ends at byte " + std::to_string(at + got) + " inside " + what +
-                                         " (bytes " + std::to_string(at) + " to " +
-                                         std::to_string(at + size) + ")");
+        throw_input_error(in.name(), "ends at byte " + std::to_string(at + got) + " inside " + what + " (bytes " +
+                                         std::to_string(at) + " to " + std::to_string(at + size) + ")");
     }
 }
 
@@ -87,13 +89,11 @@ Vec3 load_vec3(const std::byte* at) {
     return {load_le<double>(at), load_le<double>(at + 8), load_le<double>(at + 16)};
 }
 
-void validate_vec3(const InputStream& in, const Vec3& v, std::size_t field_offset, const char* field,
-                   bool nonzero) {
+void validate_vec3(const InputStream& in, const Vec3& v, std::size_t field_offset, const char* field, bool nonzero) {
     // Scale and offset are three doubles each, X first.
     static const char* axis = "XYZ";
     for (int i = 0; i < 3; ++i) {
-        std::string where = std::string(1, axis[i]) + " " + field + " at byte " +
-                            std::to_string(field_offset + 8 * i);
+        std::string where = std::string(1, axis[i]) + " " + field + " at byte " + std::to_string(field_offset + 8 * i);
         if (!std::isfinite(v[i])) throw_input_error(in.name(), where + " is not a finite number");
         if (nonzero && v[i] == 0.0) throw_input_error(in.name(), where + " is zero");
         // Positive scales keep raw integers and coordinates in the same order, which the grid's
@@ -117,8 +117,8 @@ LasHeader read_las_header(InputStream& in) {
     h.version_major = std::to_integer<std::uint8_t>(b[24]);
     h.version_minor = std::to_integer<std::uint8_t>(b[25]);
     if (h.version_major != 1 || h.version_minor > 4)
-        throw_input_error(in.name(), "has LAS version " + version_string(h) +
-                                         " (bytes 24-25); lasmesh reads LAS 1.0 to 1.4");
+        throw_input_error(in.name(),
+                          "has LAS version " + version_string(h) + " (bytes 24-25); lasmesh reads LAS 1.0 to 1.4");
     h.global_encoding = h.version_minor >= 2 ? load_le<std::uint16_t>(b + 6) : 0;
     h.system_identifier = fixed_string(b + 26, 32);
     h.generating_software = fixed_string(b + 58, 32);
@@ -138,8 +138,8 @@ LasHeader read_las_header(InputStream& in) {
     std::uint16_t minimum = minimum_header_size(h.version_minor);
     if (h.header_size < minimum)
         throw_input_error(in.name(), "header size " + std::to_string(h.header_size) +
-                                         " (byte 94) is smaller than the " + std::to_string(minimum) +
-                                         " bytes LAS " + version_string(h) + " defines");
+                                         " (byte 94) is smaller than the " + std::to_string(minimum) + " bytes LAS " +
+                                         version_string(h) + " defines");
     if (h.offset_to_point_data < h.header_size)
         throw_input_error(in.name(), "offset to point data " + std::to_string(h.offset_to_point_data) +
                                          " (byte 96) lies inside the " + std::to_string(h.header_size) +
@@ -152,7 +152,8 @@ LasHeader read_las_header(InputStream& in) {
     // a legacy count that the 64-bit count contradicts leaves no count to trust.
     if (h.version_minor >= 4 && h.legacy_point_count != 0 && h.legacy_point_count != h.point_count)
         throw_input_error(in.name(), "its 64-bit point count (bytes 247-254) is " + std::to_string(h.point_count) +
-                                         " but its legacy point count (bytes 107-110) is " + std::to_string(h.legacy_point_count) +
+                                         " but its legacy point count (bytes 107-110) is " +
+                                         std::to_string(h.legacy_point_count) +
                                          ": the header is inconsistent; rewrite it, e.g. with `las2las`");
     if (h.version_minor >= 3) h.start_after_points = load_le<std::uint64_t>(b + 227); // waveform data
     if (h.version_minor >= 4 && h.start_after_points == 0) h.start_after_points = load_le<std::uint64_t>(b + 235);
@@ -167,8 +168,8 @@ LasHeader read_las_header(InputStream& in) {
     if (h.point_record_length < core_record_size(h.point_format))
         throw_input_error(in.name(), "point record length " + std::to_string(h.point_record_length) +
                                          " (byte 105) is shorter than the " +
-                                         std::to_string(core_record_size(h.point_format)) +
-                                         " bytes point format " + std::to_string(h.point_format) + " needs");
+                                         std::to_string(core_record_size(h.point_format)) + " bytes point format " +
+                                         std::to_string(h.point_format) + " needs");
     validate_vec3(in, h.scale, 131, "scale factor", true);
     validate_vec3(in, h.offset, 155, "offset", false);
     for (int i = 0; i < 3; ++i)
@@ -177,21 +178,21 @@ LasHeader read_las_header(InputStream& in) {
     if (h.point_count > 0)
         for (int i = 0; i < 3; ++i)
             if (h.min[i] > h.max[i])
-                throw_input_error(in.name(), std::string("header bounds are inverted: min ") + "XYZ"[i] +
-                                                 " " + shortest(h.min[i]) + " > max " + shortest(h.max[i]) +
-                                                 " (bytes 179-226): the header is damaged; rewrite its bounds from the points, e.g. "
-                                                 "with `lasinfo -repair_bb`");
+                throw_input_error(
+                    in.name(), std::string("header bounds are inverted: min ") + "XYZ"[i] + " " + shortest(h.min[i]) +
+                                   " > max " + shortest(h.max[i]) +
+                                   " (bytes 179-226): the header is damaged; rewrite its bounds from the points, e.g. "
+                                   "with `lasinfo -repair_bb`");
 
     // VLRs sit between the header and the point data; one that runs past the offset to point
     // data means the count or a length is wrong, and its "payload" would be point records.
     for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
         std::uint64_t at = in.position();
         if (at + vlr_header_size > h.offset_to_point_data)
-            throw_input_error(in.name(), "VLR " + std::to_string(i) + " of " + std::to_string(h.vlr_count) +
-                                             " would start at byte " + std::to_string(at) +
-                                             " and run past the offset to point data " +
-                                             std::to_string(h.offset_to_point_data) +
-                                             ": the header's VLR count (byte 100) is wrong");
+            throw_input_error(
+                in.name(), "VLR " + std::to_string(i) + " of " + std::to_string(h.vlr_count) + " would start at byte " +
+                               std::to_string(at) + " and run past the offset to point data " +
+                               std::to_string(h.offset_to_point_data) + ": the header's VLR count (byte 100) is wrong");
         std::array<std::byte, vlr_header_size> raw;
         read_exactly(in, raw.data(), raw.size(), "VLR " + std::to_string(i));
         Vlr vlr;
@@ -201,23 +202,21 @@ LasHeader read_las_header(InputStream& in) {
         vlr.description = fixed_string(raw.data() + 22, 32);
         std::uint64_t end = at + vlr_header_size + vlr.length;
         if (end > h.offset_to_point_data)
-            throw_input_error(in.name(), "VLR " + std::to_string(i) + " (user id \"" +
-                                             printable(raw.data() + 2, vlr.user_id.size()) +
-                                             "\", record " + std::to_string(vlr.record_id) + ", " +
-                                             std::to_string(vlr.length) + " bytes at byte " +
-                                             std::to_string(at + vlr_header_size) +
-                                             ") runs past the offset to point data " +
-                                             std::to_string(h.offset_to_point_data));
+            throw_input_error(
+                in.name(), "VLR " + std::to_string(i) + " (user id \"" + printable(raw.data() + 2, vlr.user_id.size()) +
+                               "\", record " + std::to_string(vlr.record_id) + ", " + std::to_string(vlr.length) +
+                               " bytes at byte " + std::to_string(at + vlr_header_size) +
+                               ") runs past the offset to point data " + std::to_string(h.offset_to_point_data));
         const bool laszip = vlr.user_id == laszip_user_id && vlr.record_id == laszip_record_id;
         if (laszip) {
             vlr.data.resize(vlr.length);
             if (in.read(vlr.data.data(), vlr.length) < vlr.length)
-                throw_input_error(in.name(), "ends inside VLR " + std::to_string(i) + " at byte " +
-                                                 std::to_string(in.position()));
+                throw_input_error(in.name(),
+                                  "ends inside VLR " + std::to_string(i) + " at byte " + std::to_string(in.position()));
             h.compressed = true;
         } else if (in.skip(vlr.length) < vlr.length)
-            throw_input_error(in.name(), "ends inside VLR " + std::to_string(i) + " at byte " +
-                                             std::to_string(in.position()));
+            throw_input_error(in.name(),
+                              "ends inside VLR " + std::to_string(i) + " at byte " + std::to_string(in.position()));
         h.vlrs.push_back(std::move(vlr));
     }
 
@@ -230,8 +229,7 @@ LasHeader read_las_header(InputStream& in) {
     std::uint64_t gap = h.offset_to_point_data - in.position();
     if (in.skip(gap) < gap)
         throw_input_error(in.name(), "ends at byte " + std::to_string(in.position()) +
-                                         ", before the offset to point data " +
-                                         std::to_string(h.offset_to_point_data));
+                                         ", before the offset to point data " + std::to_string(h.offset_to_point_data));
     return h;
 }
 
@@ -246,11 +244,12 @@ void check_header_bounds_usable(const LasHeader& h, const std::string& name) {
         const double highest = h.offset[a] + (std::numeric_limits<std::int32_t>::max() + 1.0) * h.scale[a];
         if (h.min[a] < lowest || h.max[a] > highest)
             throw_input_error(name, field + " lie beyond every coordinate a record can hold (" + text(lowest) + " to " +
-                                        text(highest) + " with this scale and offset): the header is damaged; "
+                                        text(highest) +
+                                        " with this scale and offset): the header is damaged; "
                                         "give --scan-bounds or --bounds");
         if (!(h.max[a] - h.min[a] < 1e37))
             throw_input_error(name, field + " span more than a mesh's float positions can hold: the header is "
-                                    "damaged; give --scan-bounds or --bounds");
+                                            "damaged; give --scan-bounds or --bounds");
     }
 }
 

@@ -29,7 +29,9 @@ LasReader::LasReader(const std::string& path) : stream_(path), header_(read_head
 
 LasReader::~LasReader() = default;
 
-std::string LasReader::laz_beyond_header() const { return laz_ ? laz_->beyond_header() : std::string(); }
+std::string LasReader::laz_beyond_header() const {
+    return laz_ ? laz_->beyond_header() : std::string();
+}
 
 std::size_t LasReader::read_records(std::span<std::byte> dst) {
     const std::size_t length = header_.point_record_length;
@@ -48,14 +50,13 @@ std::size_t LasReader::read_records(std::span<std::byte> dst) {
     const std::size_t got = stream_.read(dst.data(), bytes);
     if (got < bytes) {
         const std::uint64_t whole = records_read_ + got / length;
-        std::string partial = got % length ? " and " + std::to_string(got % length) + " bytes of record " +
-                                                 std::to_string(whole)
-                                           : "";
-        throw_input_error(stream_.name(),
-                          "ends at byte " + std::to_string(stream_.position()) + " after " +
-                              std::to_string(whole) + " whole point records" + partial + ", but the header promises " +
-                              std::to_string(header_.point_count) + " records of " + std::to_string(length) +
-                              " bytes (truncated file or pipe?)");
+        std::string partial =
+            got % length ? " and " + std::to_string(got % length) + " bytes of record " + std::to_string(whole) : "";
+        throw_input_error(stream_.name(), "ends at byte " + std::to_string(stream_.position()) + " after " +
+                                              std::to_string(whole) + " whole point records" + partial +
+                                              ", but the header promises " + std::to_string(header_.point_count) +
+                                              " records of " + std::to_string(length) +
+                                              " bytes (truncated file or pipe?)");
     }
     records_read_ += wanted;
     // After the last promised record: verify the codec's end and count what follows.

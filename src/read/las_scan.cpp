@@ -45,7 +45,8 @@ struct Extremes {
     void merge(const Extremes& o) {
         for (int a = 0; a < 3; ++a) {
             raw_min[a] = std::min(raw_min[a], o.raw_min[a]), raw_max[a] = std::max(raw_max[a], o.raw_max[a]);
-            color_min[a] = std::min(color_min[a], o.color_min[a]), color_max[a] = std::max(color_max[a], o.color_max[a]);
+            color_min[a] = std::min(color_min[a], o.color_min[a]),
+            color_max[a] = std::max(color_max[a], o.color_max[a]);
         }
     }
 };
@@ -71,7 +72,8 @@ ScanResult scan_points(LasReader& reader, std::size_t chunk_records) {
     const std::size_t length = decoder.record_length;
     // Bounded in bytes too: 65,536 records of a 65,535-byte record length would be 4 GB.
     constexpr std::size_t max_chunk_bytes = std::size_t{16} << 20;
-    const std::size_t records = std::clamp<std::size_t>(chunk_records, 1, std::max<std::size_t>(1, max_chunk_bytes / length));
+    const std::size_t records =
+        std::clamp<std::size_t>(chunk_records, 1, std::max<std::size_t>(1, max_chunk_bytes / length));
     // Two chunks: the next is read while the cores scan the current one.
     std::array<std::vector<std::byte>, 2> chunks;
     for (auto& chunk : chunks) chunk.resize(records * length);

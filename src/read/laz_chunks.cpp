@@ -21,9 +21,9 @@ std::size_t layer_count(const Format& format) {
     return layers;
 }
 
-std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Format& format,
-                                      std::uint64_t point_count, std::uint64_t first_chunk_offset,
-                                      std::uint64_t table_offset, const std::string& source, std::string& beyond) {
+std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Format& format, std::uint64_t point_count,
+                                      std::uint64_t first_chunk_offset, std::uint64_t table_offset,
+                                      const std::string& source, std::string& beyond) {
     const std::string where = "chunk table at byte " + std::to_string(table_offset);
     if (table.size() < 8) throw_input_error(source, "ends inside the " + where);
     const std::uint32_t version = load_le<std::uint32_t>(table.data());
@@ -53,9 +53,11 @@ std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Fo
         last_bytes = ic.decode(dec, last_bytes, 1);
         c.bytes = static_cast<std::uint32_t>(last_bytes);
         c.offset = offset;
-        if (c.points == 0 || !plausible_points(c.points, c.bytes) || c.points * format.record_length > max_chunk_record_bytes)
-            throw_input_error(source, where + ": chunk " + std::to_string(i + 1) + " claims " + std::to_string(c.points) +
-                                          " points in " + std::to_string(c.bytes) + " bytes (corrupt table)");
+        if (c.points == 0 || !plausible_points(c.points, c.bytes) ||
+            c.points * format.record_length > max_chunk_record_bytes)
+            throw_input_error(source, where + ": chunk " + std::to_string(i + 1) + " claims " +
+                                          std::to_string(c.points) + " points in " + std::to_string(c.bytes) +
+                                          " bytes (corrupt table)");
         if (points < point_count) kept = i + 1;
         offset += c.bytes;
         points += c.points;
@@ -68,7 +70,8 @@ std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Fo
     if (!format.variable_chunks() && count > 0) {
         std::uint64_t before = 0;
         for (std::uint32_t i = 0; i + 1 < kept; ++i) before += chunks[i].points;
-        if (kept > 0 && point_count > before) chunks[kept - 1].points = std::min<std::uint64_t>(format.chunk_size, point_count - before);
+        if (kept > 0 && point_count > before)
+            chunks[kept - 1].points = std::min<std::uint64_t>(format.chunk_size, point_count - before);
         points = 0;
         for (std::uint32_t i = 0; i < kept; ++i) points += chunks[i].points;
     }

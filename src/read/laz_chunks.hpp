@@ -25,15 +25,17 @@ struct Chunk {
 // end at or before `table_offset` and that they hold at least `point_count` points; throws Error
 // (input) naming `source` otherwise. Chunks past the header's count are left out of the result
 // and said in `beyond` ("2 more chunks", "10000 more points"; empty when none).
-std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Format& format,
-                                      std::uint64_t point_count, std::uint64_t first_chunk_offset,
-                                      std::uint64_t table_offset, const std::string& source, std::string& beyond);
+std::vector<Chunk> decode_chunk_table(std::span<const std::byte> table, const Format& format, std::uint64_t point_count,
+                                      std::uint64_t first_chunk_offset, std::uint64_t table_offset,
+                                      const std::string& source, std::string& beyond);
 
 // Every point costs a few adaptive-symbol decodes, at least a few thousandths of a bit each, so
 // a chunk of `bytes` compressed bytes holds well under 2048 points per byte (about 1000 for
 // identical format-0 points, the cheapest case).
 // Checked before records are allocated, so a corrupt count cannot ask for terabytes.
-inline bool plausible_points(std::uint64_t points, std::uint64_t bytes) { return points <= bytes * 2048 + 1; }
+inline bool plausible_points(std::uint64_t points, std::uint64_t bytes) {
+    return points <= bytes * 2048 + 1;
+}
 
 // Layered chunks (compressor 3) describe their own size: raw first record, u32 point count, one
 // u32 byte count per layer, then the layers. Number of layers for `format`.

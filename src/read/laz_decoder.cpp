@@ -31,7 +31,7 @@ const Vlr* find_laszip_vlr(const LasHeader& h) {
 
 // A second, read-only handle on the file for the chunk table; closed at scope exit.
 class FileHandle {
-public:
+  public:
     explicit FileHandle(const std::string& path) : fd_(::open(path.c_str(), O_RDONLY | O_CLOEXEC)) {}
     ~FileHandle() {
         if (fd_ >= 0) ::close(fd_);
@@ -50,7 +50,7 @@ public:
         return got;
     }
 
-private:
+  private:
     int fd_;
 };
 
@@ -76,8 +76,9 @@ LazDecoder::LazDecoder(InputStream& stream, const LasHeader& header, const std::
     const std::optional<std::uint64_t> file_size = stream_.raw_size();
     if (path == "-" || stream_.compression() != Compression::none || !file_size) {
         if (!format_.layered() && format_.variable_chunks())
-            throw_input_error(source_, "is LAZ with variable-size pointwise chunks, which cannot be found without the "
-                                       "chunk table at the end of the file: give lasmesh the file path instead of a pipe");
+            throw_input_error(source_,
+                              "is LAZ with variable-size pointwise chunks, which cannot be found without the "
+                              "chunk table at the end of the file: give lasmesh the file path instead of a pipe");
         return;
     }
     FileHandle file(path);
@@ -97,8 +98,8 @@ LazDecoder::LazDecoder(InputStream& stream, const LasHeader& header, const std::
     const std::uint64_t want = std::min<std::uint64_t>(*file_size - table_offset, 8 + 20 * max_chunks + 64);
     std::vector<std::byte> table(static_cast<std::size_t>(want));
     table.resize(file.read_at(static_cast<std::uint64_t>(table_offset), table.data(), table.size()));
-    table_ = decode_chunk_table(table, format_, point_count_, first_chunk, static_cast<std::uint64_t>(table_offset), source_,
-                                beyond_header_);
+    table_ = decode_chunk_table(table, format_, point_count_, first_chunk, static_cast<std::uint64_t>(table_offset),
+                                source_, beyond_header_);
     have_table_ = true;
 }
 
@@ -137,11 +138,13 @@ bool LazDecoder::next_chunk_bytes(Pending& p) {
         read_exactly(p.bytes.data(), head, p.index, "the header");
         const std::uint32_t count = load_le<std::uint32_t>(p.bytes.data() + format_.record_length);
         std::uint64_t body = 0;
-        for (std::size_t i = format_.record_length + 4u; i < head; i += 4) body += load_le<std::uint32_t>(p.bytes.data() + i);
+        for (std::size_t i = format_.record_length + 4u; i < head; i += 4)
+            body += load_le<std::uint32_t>(p.bytes.data() + i);
         p.chunk.points = count;
         p.chunk.bytes = head + body;
         const std::uint64_t left = point_count_ - points_started_;
-        if (count == 0 || count > left || (!format_.variable_chunks() && count != std::min<std::uint64_t>(format_.chunk_size, left)))
+        if (count == 0 || count > left ||
+            (!format_.variable_chunks() && count != std::min<std::uint64_t>(format_.chunk_size, left)))
             chunk_error(p.index, p.chunk, p.chunk.offset + format_.record_length,
                         "it holds " + std::to_string(count) + " points, but " + std::to_string(left) +
                             " points are left (chunk size " + std::to_string(format_.chunk_size) + ")");
@@ -168,8 +171,8 @@ void LazDecoder::decode_pointwise_sequential() {
     Pending p;
     p.index = chunks_started_;
     p.chunk.offset = stream_.position() - carry_.size();
-    p.chunk.points = format_.chunked() ? std::min<std::uint64_t>(format_.chunk_size, point_count_ - points_started_)
-                                       : point_count_;
+    p.chunk.points =
+        format_.chunked() ? std::min<std::uint64_t>(format_.chunk_size, point_count_ - points_started_) : point_count_;
     const std::size_t length = format_.record_length;
     bool at_end = false;
     if (!format_.chunked()) {
@@ -187,7 +190,8 @@ void LazDecoder::decode_pointwise_sequential() {
                             std::to_string(p.chunk.points) + " points (truncated file?)");
     }
     // Start from a guess (LAZ is 5-10 times smaller than LAS) and double on each retry.
-    std::size_t want = std::clamp<std::size_t>(static_cast<std::size_t>(p.chunk.points) * length / 4, 1u << 16, 1u << 22);
+    std::size_t want =
+        std::clamp<std::size_t>(static_cast<std::size_t>(p.chunk.points) * length / 4, 1u << 16, 1u << 22);
     for (;;) {
         if (carry_.size() < want && !at_end) {
             const std::size_t had = carry_.size();
@@ -206,7 +210,8 @@ void LazDecoder::decode_pointwise_sequential() {
             decoded_.resize_for_overwrite(static_cast<std::size_t>(p.chunk.points) * length);
         }
         try {
-            const std::size_t used = decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data(), stores_.local());
+            const std::size_t used =
+                decode_pointwise_chunk(format_, carry_, p.chunk.points, decoded_.data(), stores_.local());
             carry_.erase(carry_.begin(), carry_.begin() + static_cast<std::ptrdiff_t>(used));
             break;
         } catch (const ChunkError& e) {
@@ -238,25 +243,30 @@ void LazDecoder::decode_next_batch() {
     if (batch.empty()) return;
     const std::size_t length = format_.record_length;
     std::vector<std::size_t> first_record(batch.size() + 1, 0);
-    for (std::size_t i = 0; i < batch.size(); ++i) first_record[i + 1] = first_record[i] + static_cast<std::size_t>(batch[i].chunk.points);
+    for (std::size_t i = 0; i < batch.size(); ++i)
+        first_record[i + 1] = first_record[i] + static_cast<std::size_t>(batch[i].chunk.points);
     decoded_.resize_for_overwrite(first_record.back() * length);
     // Each chunk is independent (its models start fresh), so chunks decode in parallel; errors
     // are kept per chunk and the first one in file order is reported, whatever the timing.
     std::vector<std::optional<ChunkError>> errors(batch.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            try {
-                std::byte* out = decoded_.data() + first_record[i] * length;
-                ModelStore& store = stores_.local();
-                if (format_.layered()) decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
-                else decode_pointwise_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
-            } catch (const ChunkError& e) {
-                errors[i] = e;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, batch.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                try {
+                    std::byte* out = decoded_.data() + first_record[i] * length;
+                    ModelStore& store = stores_.local();
+                    if (format_.layered())
+                        decode_layered_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
+                    else
+                        decode_pointwise_chunk(format_, batch[i].bytes, batch[i].chunk.points, out, store);
+                } catch (const ChunkError& e) {
+                    errors[i] = e;
+                }
             }
-        }
-    });
+        });
     for (std::size_t i = 0; i < batch.size(); ++i)
-        if (errors[i]) chunk_error(batch[i].index, batch[i].chunk, batch[i].chunk.offset + errors[i]->offset, errors[i]->what());
+        if (errors[i])
+            chunk_error(batch[i].index, batch[i].chunk, batch[i].chunk.offset + errors[i]->offset, errors[i]->what());
 }
 
 std::size_t LazDecoder::read(std::byte* dst, std::size_t records) {

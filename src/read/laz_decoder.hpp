@@ -25,7 +25,7 @@
 namespace lasmesh::laz {
 
 class LazDecoder {
-public:
+  public:
     // `stream` is at the offset to point data; `path` reopens the file for the chunk table.
     LazDecoder(InputStream& stream, const LasHeader& header, const std::string& path);
 
@@ -37,7 +37,7 @@ public:
     // points"), never decoded; empty when nothing (or when there is no table: a pipe).
     const std::string& beyond_header() const { return beyond_header_; }
 
-private:
+  private:
     struct Pending {
         std::vector<std::byte> bytes; // compressed chunk
         Chunk chunk;
@@ -47,7 +47,8 @@ private:
     bool next_chunk_bytes(Pending& p); // table or self-describing chunks; false at the end
     void decode_pointwise_sequential();
     void read_exactly(std::byte* dst, std::size_t size, std::uint64_t chunk_index, const char* what);
-    [[noreturn]] void chunk_error(std::size_t index, const Chunk& chunk, std::uint64_t at, const std::string& what) const;
+    [[noreturn]] void chunk_error(std::size_t index, const Chunk& chunk, std::uint64_t at,
+                                  const std::string& what) const;
 
     InputStream& stream_;
     const std::string source_;
@@ -57,7 +58,7 @@ private:
     std::size_t chunks_started_ = 0;
     // Each thread's symbol models, reused from chunk to chunk (ModelStore).
     tbb::enumerable_thread_specific<ModelStore> stores_;
-    std::vector<Chunk> table_;  // empty when decoding without the table
+    std::vector<Chunk> table_; // empty when decoding without the table
     bool have_table_ = false;
     std::string beyond_header_;
     std::vector<std::byte> carry_; // pipe, pointwise: bytes read past the last chunk's end
@@ -65,14 +66,14 @@ private:
     // item decoders write every byte of every record (their sizes add up to the record length),
     // and a chunk that fails to decode is reported, never handed out.
     class Records {
-    public:
+      public:
         std::byte* data() { return data_.get(); }
         std::size_t size() const { return size_; }
         bool empty() const { return size_ == 0; }
         void clear() { size_ = 0; }
         void resize_for_overwrite(std::size_t n) { // keeps no old contents
             if (n > capacity_) {
-                data_.reset(); // the old block goes before the new one comes
+                data_.reset();         // the old block goes before the new one comes
                 capacity_ = size_ = 0; // (stays consistent if the allocation throws)
                 data_ = std::make_unique_for_overwrite<std::byte[]>(n);
                 capacity_ = n;
@@ -80,7 +81,7 @@ private:
             size_ = n;
         }
 
-    private:
+      private:
         std::unique_ptr<std::byte[]> data_;
         std::size_t size_ = 0, capacity_ = 0;
     };

@@ -26,8 +26,8 @@ inline std::int32_t mul32(std::int32_t a, std::int32_t b) {
 
 struct GpsTimePrediction {
     std::int32_t difference; // the predicted difference from the last time
-    std::uint32_t context;    // the integer decoder's context for the correction
-    bool extreme;             // an extreme multiplier: a run of them replaces the last difference
+    std::uint32_t context;   // the integer decoder's context for the correction
+    bool extreme;            // an extreme multiplier: a run of them replaces the last difference
 };
 
 // For a multiplier symbol below 511 (the caller checks), with context per kind of multiplier.

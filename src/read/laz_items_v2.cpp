@@ -19,9 +19,13 @@ constexpr std::uint8_t return_map[8][8] = {
     {12, 3, 4, 5, 8, 12, 12, 11},    {11, 6, 7, 8, 9, 13, 13, 12},   {10, 10, 11, 12, 13, 14, 14, 13},
     {9, 10, 11, 12, 13, 14, 15, 14}, {8, 9, 10, 11, 12, 13, 14, 15},
 };
-constexpr std::uint8_t return_level(unsigned n, unsigned r) { return static_cast<std::uint8_t>(n > r ? n - r : r - n); }
+constexpr std::uint8_t return_level(unsigned n, unsigned r) {
+    return static_cast<std::uint8_t>(n > r ? n - r : r - n);
+}
 
-inline std::uint8_t clamp_u8(std::int32_t v) { return static_cast<std::uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v); }
+inline std::uint8_t clamp_u8(std::int32_t v) {
+    return static_cast<std::uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v);
+}
 
 // GPS time multipliers (Isenburg 2013, 3.3.2): codes 1..499 multiply the last difference,
 // 500 is the largest, 501..510 are -1..-10, 511 unchanged, 512 a full new time, 513..515
@@ -30,7 +34,6 @@ constexpr std::int32_t gps_pointwise_unchanged = gps_multi - gps_multi_minus + 1
 constexpr std::int32_t gps_pointwise_code_full = gps_multi - gps_multi_minus + 2; // 512
 constexpr std::int32_t gps_pointwise_total = gps_multi - gps_multi_minus + 6;     // 516
 
-
 } // namespace
 
 Point10Decoder::Point10Decoder(const std::byte* p, ModelStore& store)
@@ -38,8 +41,8 @@ Point10Decoder::Point10Decoder(const std::byte* p, ModelStore& store)
       intensity_(0), // v2 predicts intensity from last_intensity_, which starts at 0
       bits_(std::to_integer<std::uint8_t>(p[14])), classification_(std::to_integer<std::uint8_t>(p[15])),
       scan_angle_(std::to_integer<std::uint8_t>(p[16])), user_data_(std::to_integer<std::uint8_t>(p[17])),
-      point_source_(load_le<std::uint16_t>(p + 18)), changed_(64, store),
-      scan_angle_models_{SymbolModel(256, store), SymbolModel(256, store)} {}
+      point_source_(load_le<std::uint16_t>(p + 18)),
+      changed_(64, store), scan_angle_models_{SymbolModel(256, store), SymbolModel(256, store)} {}
 
 SymbolModel& Point10Decoder::lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context,
                                   ModelStore& store) {
@@ -52,7 +55,8 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
     const std::uint32_t changed = dec.decode_symbol(changed_);
     unsigned r, n, m, l;
     if (changed) {
-        if (changed & 32) bits_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(bit_byte_models_, bits_, dec.store())));
+        if (changed & 32)
+            bits_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(bit_byte_models_, bits_, dec.store())));
         r = bits_ & 7;
         n = (bits_ >> 3) & 7;
         m = return_map[n][r];
@@ -64,12 +68,14 @@ void Point10Decoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
             intensity_ = last_intensity_[m];
         }
         if (changed & 8)
-            classification_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(classification_models_, classification_, dec.store())));
+            classification_ = static_cast<std::uint8_t>(
+                dec.decode_symbol(lazy(classification_models_, classification_, dec.store())));
         if (changed & 4) {
             const std::uint32_t v = dec.decode_symbol(scan_angle_models_[(bits_ >> 6) & 1]);
             scan_angle_ = static_cast<std::uint8_t>(v + scan_angle_);
         }
-        if (changed & 2) user_data_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(user_data_models_, user_data_, dec.store())));
+        if (changed & 2)
+            user_data_ = static_cast<std::uint8_t>(dec.decode_symbol(lazy(user_data_models_, user_data_, dec.store())));
         if (changed & 1) point_source_ = static_cast<std::uint16_t>(ic_point_source_.decode(dec, point_source_));
     } else {
         r = bits_ & 7;
@@ -175,16 +181,16 @@ void decode_rgb(ArithmeticDecoder& decoder, RgbModels& models, std::array<std::u
     c[0] = static_cast<std::uint16_t>(lo | hi << 8);
     if (used & 64) {
         std::int32_t diff = byte_of(c[0], 0) - byte_of(last[0], 0);
-        std::int32_t g_lo = used & 4 ? static_cast<std::uint8_t>(sym(2) + clamp_u8(diff + byte_of(last[1], 0)))
-                                     : byte_of(last[1], 0);
+        std::int32_t g_lo =
+            used & 4 ? static_cast<std::uint8_t>(sym(2) + clamp_u8(diff + byte_of(last[1], 0))) : byte_of(last[1], 0);
         std::int32_t b_lo = byte_of(last[2], 0);
         if (used & 16) {
             const std::int32_t d = (diff + (g_lo - byte_of(last[1], 0))) / 2;
             b_lo = static_cast<std::uint8_t>(sym(4) + clamp_u8(d + byte_of(last[2], 0)));
         }
         diff = byte_of(c[0], 1) - byte_of(last[0], 1);
-        std::int32_t g_hi = used & 8 ? static_cast<std::uint8_t>(sym(3) + clamp_u8(diff + byte_of(last[1], 1)))
-                                     : byte_of(last[1], 1);
+        std::int32_t g_hi =
+            used & 8 ? static_cast<std::uint8_t>(sym(3) + clamp_u8(diff + byte_of(last[1], 1))) : byte_of(last[1], 1);
         std::int32_t b_hi = byte_of(last[2], 1);
         if (used & 32) {
             const std::int32_t d = (diff + (g_hi - byte_of(last[1], 1))) / 2;
@@ -222,7 +228,8 @@ void ByteDecoder::decode(ArithmeticDecoder& decoder, std::byte* out) {
 }
 
 WavePacketDecoder::WavePacketDecoder(const std::byte* first, ModelStore& store)
-    : index_(256, store), offset_sym_{SymbolModel(4, store), SymbolModel(4, store), SymbolModel(4, store), SymbolModel(4, store)} {
+    : index_(256, store), offset_sym_{SymbolModel(4, store), SymbolModel(4, store), SymbolModel(4, store),
+                                      SymbolModel(4, store)} {
     std::memcpy(last_.data(), first, last_.size());
 }
 
@@ -234,8 +241,10 @@ void WavePacketDecoder::decode(ArithmeticDecoder& dec, std::byte* out) {
     // Offset: same as last, right after the last packet, last plus a 32-bit difference, or raw.
     last_offset_sym_ = dec.decode_symbol(offset_sym_[last_offset_sym_]);
     std::uint64_t offset;
-    if (last_offset_sym_ == 0) offset = last_offset;
-    else if (last_offset_sym_ == 1) offset = last_offset + last_size;
+    if (last_offset_sym_ == 0)
+        offset = last_offset;
+    else if (last_offset_sym_ == 1)
+        offset = last_offset + last_size;
     else if (last_offset_sym_ == 2) {
         last_diff_32_ = ic_offset_.decode(dec, last_diff_32_);
         offset = last_offset + static_cast<std::uint64_t>(static_cast<std::int64_t>(last_diff_32_));

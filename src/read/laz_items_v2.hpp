@@ -15,11 +15,11 @@ namespace lasmesh::laz {
 
 // X, Y, Z, intensity, return bits, classification, scan angle, user data, point source: 20 bytes.
 class Point10Decoder {
-public:
+  public:
     Point10Decoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
-private:
+  private:
     SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, 256>& models, std::uint8_t context, ModelStore& store);
 
     std::int32_t x_, y_, z_;
@@ -40,11 +40,11 @@ private:
 // The GPS time as a double, predicted as a multiple of the last time difference in up to
 // four interleaved sequences (Isenburg 2013, section 3.3.2).
 class GpsTime11Decoder {
-public:
+  public:
     GpsTime11Decoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
-private:
+  private:
     std::uint32_t last_ = 0, next_ = 0;
     std::array<std::int64_t, 4> last_time_{}; // the doubles' bit patterns
     std::array<std::int32_t, 4> last_diff_{};
@@ -64,33 +64,33 @@ struct RgbModels {
 void decode_rgb(ArithmeticDecoder& dec, RgbModels& models, std::array<std::uint16_t, 3>& last);
 
 class Rgb12Decoder {
-public:
+  public:
     explicit Rgb12Decoder(const std::byte* first);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
-private:
+  private:
     std::array<std::uint16_t, 3> last_;
     RgbModels models_;
 };
 
 // Extra bytes: each byte relative to its last value, one model per byte.
 class ByteDecoder {
-public:
+  public:
     ByteDecoder(const std::byte* first, std::size_t size);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
-private:
+  private:
     std::vector<std::uint8_t> last_;
     std::vector<LazySymbolModel> models_;
 };
 
 // Waveform packet descriptor (29 bytes): index, offset, size, return point, x, y, z.
 class WavePacketDecoder {
-public:
+  public:
     WavePacketDecoder(const std::byte* first, ModelStore& store);
     void decode(ArithmeticDecoder& dec, std::byte* out);
 
-private:
+  private:
     std::array<std::byte, 29> last_;
     std::uint32_t last_offset_sym_ = 0;
     std::int32_t last_diff_32_ = 0;

@@ -42,7 +42,6 @@ inline std::uint32_t return_level_8ctx(std::uint32_t n, std::uint32_t r) {
 constexpr std::int32_t gps_layered_code_full = gps_multi - gps_multi_minus + 1; // 511
 constexpr std::int32_t gps_layered_total = gps_multi - gps_multi_minus + 5;     // 515
 
-
 struct Layer {
     std::span<const std::byte> bytes;
     ArithmeticDecoder dec;
@@ -51,7 +50,8 @@ struct Layer {
 };
 
 template <std::size_t N>
-SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, N>& models, std::size_t i, std::uint32_t symbols, ModelStore& store) {
+SymbolModel& lazy(std::array<std::unique_ptr<SymbolModel>, N>& models, std::size_t i, std::uint32_t symbols,
+                  ModelStore& store) {
     if (!models[i]) models[i] = std::make_unique<SymbolModel>(symbols, store);
     return *models[i];
 }
@@ -99,9 +99,8 @@ struct Point14Context {
 };
 
 class Point14Decoder {
-public:
-    Point14Decoder(const std::byte* raw, Layer* layers, std::uint16_t version)
-        : layers_(layers), version_(version) {
+  public:
+    Point14Decoder(const std::byte* raw, Layer* layers, std::uint16_t version) : layers_(layers), version_(version) {
         Point14Context first;
         first.x = load_le<std::int32_t>(raw);
         first.y = load_le<std::int32_t>(raw + 4);
@@ -130,7 +129,7 @@ public:
     std::uint32_t context() const { return published_; }
     void decode(std::byte* out);
 
-private:
+  private:
     void decode_gps(Point14Context& c);
 
     Layer* layers_; // 9: XY+returns, Z, class, flags, intensity, angle, user data, source, time
@@ -229,8 +228,10 @@ void Point14Decoder::decode(std::byte* out) {
     case 1: r = (last_r + 1) % 16; break;
     case 2: r = (last_r + 15) % 16; break;
     default:
-        if (gps_change) r = xy.decode_symbol(lazy(c->return_number, last_r, 16, xy.store()));
-        else r = (last_r + xy.decode_symbol(c->return_number_gps_same) + 2) % 16;
+        if (gps_change)
+            r = xy.decode_symbol(lazy(c->return_number, last_r, 16, xy.store()));
+        else
+            r = (last_r + xy.decode_symbol(c->return_number_gps_same) + 2) % 16;
         break;
     }
     c->r = r;
@@ -255,11 +256,13 @@ void Point14Decoder::decode(std::byte* out) {
     }
     if (layers_[2].present) {
         const std::uint32_t ccc = ((c->classification & 0x1Fu) << 1) + (cpr == 3 ? 1u : 0u);
-        c->classification = static_cast<std::uint8_t>(layers_[2].dec.decode_symbol(lazy(c->classification_models, ccc, 256, layers_[2].dec.store())));
+        c->classification = static_cast<std::uint8_t>(
+            layers_[2].dec.decode_symbol(lazy(c->classification_models, ccc, 256, layers_[2].dec.store())));
     }
     if (layers_[3].present) {
         const std::uint32_t last_flags = (c->edge << 5) | (c->scan_dir << 4) | c->class_flags;
-        const std::uint32_t flags = layers_[3].dec.decode_symbol(lazy(c->flags_models, last_flags, 64, layers_[3].dec.store()));
+        const std::uint32_t flags =
+            layers_[3].dec.decode_symbol(lazy(c->flags_models, last_flags, 64, layers_[3].dec.store()));
         c->edge = (flags >> 5) & 1;
         c->scan_dir = (flags >> 4) & 1;
         c->class_flags = flags & 15;
@@ -272,7 +275,8 @@ void Point14Decoder::decode(std::byte* out) {
     if (layers_[5].present && scan_angle_change)
         c->scan_angle = static_cast<std::int16_t>(c->ic_scan_angle.decode(layers_[5].dec, c->scan_angle, gps_change));
     if (layers_[6].present)
-        c->user_data = static_cast<std::uint8_t>(layers_[6].dec.decode_symbol(lazy(c->user_data_models, c->user_data / 4u, 256, layers_[6].dec.store())));
+        c->user_data = static_cast<std::uint8_t>(
+            layers_[6].dec.decode_symbol(lazy(c->user_data_models, c->user_data / 4u, 256, layers_[6].dec.store())));
     if (layers_[7].present && point_source_change)
         c->point_source = static_cast<std::uint16_t>(c->ic_point_source.decode(layers_[7].dec, c->point_source));
     if (layers_[8].present && gps_change) {
@@ -286,7 +290,8 @@ void Point14Decoder::decode(std::byte* out) {
     store_le(out + 8, c->z);
     store_le(out + 12, c->intensity);
     out[14] = std::byte(static_cast<std::uint8_t>((c->r & 15) | (c->n << 4)));
-    out[15] = std::byte(static_cast<std::uint8_t>(c->class_flags | (c->channel << 4) | (c->scan_dir << 6) | (c->edge << 7)));
+    out[15] =
+        std::byte(static_cast<std::uint8_t>(c->class_flags | (c->channel << 4) | (c->scan_dir << 6) | (c->edge << 7)));
     out[16] = std::byte{c->classification};
     out[17] = std::byte{c->user_data};
     store_le(out + 18, c->scan_angle);
@@ -300,8 +305,9 @@ void Point14Decoder::decode(std::byte* out) {
 // as LASzip 3.x does; version 4 uses the channel's own.
 template <typename State>
 class Channels {
-public:
-    Channels(std::uint32_t channel, State first, std::uint16_t version) : version_(version), current_(channel), last_(channel) {
+  public:
+    Channels(std::uint32_t channel, State first, std::uint16_t version)
+        : version_(version), current_(channel), last_(channel) {
         states_[channel].emplace(std::move(first));
     }
     template <typename Fresh>
@@ -319,7 +325,7 @@ public:
     State& models() { return *states_[current_]; }
     State& last() { return *states_[last_]; }
 
-private:
+  private:
     std::uint16_t version_;
     std::uint32_t current_, last_;
     std::array<std::optional<State>, 4> states_;
@@ -398,7 +404,8 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
         case ItemType::rgb14:
         case ItemType::rgbnir14: {
             RgbState s;
-            s.last = {load_le<std::uint16_t>(first), load_le<std::uint16_t>(first + 2), load_le<std::uint16_t>(first + 4)};
+            s.last = {load_le<std::uint16_t>(first), load_le<std::uint16_t>(first + 2),
+                      load_le<std::uint16_t>(first + 4)};
             nir = item.type == ItemType::rgbnir14;
             if (nir) s.nir = load_le<std::uint16_t>(first + 6);
             rgb.emplace(point->context(), std::move(s), item.version);
@@ -426,7 +433,10 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
         }
         default: throw ChunkError(0, "item " + item_name(item.type) + " cannot be layered");
         }
-        layer += item.type == ItemType::point14 ? 9 : item.type == ItemType::rgbnir14 ? 2 : item.type == ItemType::byte14 ? item.size : 1;
+        layer += item.type == ItemType::point14    ? 9
+                 : item.type == ItemType::rgbnir14 ? 2
+                 : item.type == ItemType::byte14   ? item.size
+                                                   : 1;
         field += item.size;
     }
 
@@ -460,14 +470,13 @@ void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes
             }
         }
         if (extra) {
-            extra->follow(channel, [](const ByteState& from) {
-                return ByteState::from(from.last);
-            });
+            extra->follow(channel, [](const ByteState& from) { return ByteState::from(from.last); });
             ByteState& models = extra->models();
             ByteState& last = extra->last();
             for (std::size_t b = 0; b < byte_size; ++b) {
                 if (byte_layers[b].present)
-                    last.last[b] = static_cast<std::uint8_t>(last.last[b] + byte_layers[b].dec.decode_symbol(models.models[b]));
+                    last.last[b] =
+                        static_cast<std::uint8_t>(last.last[b] + byte_layers[b].dec.decode_symbol(models.models[b]));
                 record[byte_at + b] = std::byte{last.last[b]};
             }
         }

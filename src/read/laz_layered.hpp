@@ -16,7 +16,7 @@ namespace lasmesh::laz {
 
 // Decodes the `count` records of the chunk in `bytes` into `out`, with models made in `store`;
 // throws ChunkError.
-void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count,
-                          std::byte* out, ModelStore& store);
+void decode_layered_chunk(const Format& format, std::span<const std::byte> bytes, std::uint64_t count, std::byte* out,
+                          ModelStore& store);
 
 } // namespace lasmesh::laz

@@ -29,7 +29,8 @@ std::size_t decode_pointwise_chunk(const Format& format, std::span<const std::by
     if (count == 0) return 0;
     const std::size_t length = format.record_length;
     if (bytes.size() < length)
-        throw ChunkError(bytes.size(), "ends inside its first (uncompressed) record of " + std::to_string(length) + " bytes");
+        throw ChunkError(bytes.size(),
+                         "ends inside its first (uncompressed) record of " + std::to_string(length) + " bytes");
     std::memcpy(out, bytes.data(), length);
     if (count == 1) return length;
 

@@ -59,7 +59,8 @@ Format parse_laszip_vlr(std::span<const std::byte> p, const std::string& source,
     f.chunk_size = load_le<std::uint32_t>(p.data() + 12);
     const std::uint16_t count = load_le<std::uint16_t>(p.data() + 32);
     if (compressor < 1 || compressor > 3)
-        fail("compressor " + std::to_string(compressor) + " is not one of 1 (pointwise), 2 (pointwise chunked), 3 (layered chunked)");
+        fail("compressor " + std::to_string(compressor) +
+             " is not one of 1 (pointwise), 2 (pointwise chunked), 3 (layered chunked)");
     if (coder != 0) fail("coder " + std::to_string(coder) + " is not 0 (arithmetic), the only one LASzip defines");
     f.compressor = static_cast<Compressor>(compressor);
     if (f.chunked() && f.chunk_size == 0) fail("chunk size is 0");
@@ -77,17 +78,21 @@ Format parse_laszip_vlr(std::span<const std::byte> p, const std::string& source,
         const std::string name = item_name(item.type) + " v" + std::to_string(item.version);
         const int size = fixed_size(item.type);
         const bool known = size > 0 || item.type == ItemType::byte || item.type == ItemType::byte14;
-        if (!known) fail("item " + std::to_string(i) + " has unknown type " + std::to_string(static_cast<unsigned>(item.type)));
+        if (!known)
+            fail("item " + std::to_string(i) + " has unknown type " + std::to_string(static_cast<unsigned>(item.type)));
         if (size > 0 ? item.size != size : item.size == 0)
             fail("item " + name + " is " + std::to_string(item.size) + " bytes, expected " + std::to_string(size));
         if (pointwise_item(item.type)) {
             if (f.layered()) fail("item " + name + " cannot be used with the layered compressor 3");
             const bool ok = item.type == ItemType::wavepacket13 ? item.version == 1 : item.version == 2;
             if (!ok)
-                fail("item " + name + " is not supported: lasmesh decodes the item versions current LASzip writes "
-                     "(v2; WAVEPACKET13 v1), not those of LASzip 1.x (2011); recompress the file with a current laszip");
+                fail(
+                    "item " + name +
+                    " is not supported: lasmesh decodes the item versions current LASzip writes "
+                    "(v2; WAVEPACKET13 v1), not those of LASzip 1.x (2011); recompress the file with a current laszip");
         } else {
-            if (!f.layered()) fail("item " + name + " needs the layered compressor 3, not compressor " + std::to_string(compressor));
+            if (!f.layered())
+                fail("item " + name + " needs the layered compressor 3, not compressor " + std::to_string(compressor));
             if (item.version != 3 && item.version != 4) fail("item " + name + " is not supported (expected v3 or v4)");
         }
         total += item.size;

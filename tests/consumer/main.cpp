@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
 
     lasmesh::BuildOptions options;
     options.grid = lasmesh::GridRequest::longest(32); // a coarse grid: the test scene is small
-    options.surface = lasmesh::SurfaceKind::closed; // a watertight solid, checked below
+    options.surface = lasmesh::SurfaceKind::closed;   // a watertight solid, checked below
     options.outputs.push_back({argv[3], lasmesh::MeshFormat::ply});
     options.keep_mesh = true;
     const lasmesh::BuildResult result = lasmesh::build_mesh(argv[1], options);

@@ -14,8 +14,7 @@ namespace lasgen {
 using lasmesh::store_le;
 
 void validate_layout(const LasLayout& l) {
-    if (l.version_minor < 0 || l.version_minor > 4)
-        throw std::invalid_argument("LAS version must be 1.0 to 1.4");
+    if (l.version_minor < 0 || l.version_minor > 4) throw std::invalid_argument("LAS version must be 1.0 to 1.4");
     if (l.point_format < 0 || l.point_format > 10) throw std::invalid_argument("point format must be 0 to 10");
     static constexpr int first_version[] = {0, 0, 2, 2, 3, 3, 4, 4, 4, 4, 4};
     if (l.version_minor < first_version[l.point_format])

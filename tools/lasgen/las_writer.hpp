@@ -14,8 +14,8 @@ namespace lasgen {
 struct LasLayout {
     int version_minor = 2;
     int point_format = 3;
-    int extra_bytes = 0;      // zero bytes appended to every record
-    int color_bits = 8;       // 8: values 0-255 in the 16-bit fields; 16: value * 257
+    int extra_bytes = 0; // zero bytes appended to every record
+    int color_bits = 8;  // 8: values 0-255 in the 16-bit fields; 16: value * 257
     Vec3 scale{0.001, 0.001, 0.001};
     Vec3 offset{};
 };

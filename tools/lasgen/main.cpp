@@ -89,7 +89,8 @@ void generate(const Options& o) {
     // 2^18 records a batch, fewer when records are long (at most 32 MiB of them) or fewer are
     // asked for: --extra-bytes 65501 took 17 GB for 100 points. (Scan order sorts each batch, so
     // batches stay 2^18 points for records up to 128 bytes: those files are unchanged.)
-    const std::uint64_t batch = std::max<std::uint64_t>(1, std::min<std::uint64_t>({std::uint64_t{1} << 18, (32u << 20) / length, o.points}));
+    const std::uint64_t batch =
+        std::max<std::uint64_t>(1, std::min<std::uint64_t>({std::uint64_t{1} << 18, (32u << 20) / length, o.points}));
     std::vector<std::byte> buffer(batch * length);
     std::vector<lasgen::GeneratedPoint> points(batch);
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(batch);
@@ -121,7 +122,8 @@ int main(int argc, char** argv) {
     CLI::App app{"lasgen: synthetic LAS scenes (sphere, box, torus, or a ship's deck) for lasmesh"};
     Options o;
     app.add_option("--scene", o.scene, "sphere, box, torus or deck")->capture_default_str();
-    app.add_option("--order", o.order, "random: points in no order; scan: in acquisition-like order (consecutive points close together)")
+    app.add_option("--order", o.order,
+                   "random: points in no order; scan: in acquisition-like order (consecutive points close together)")
         ->capture_default_str()
         ->check(CLI::IsMember({"random", "scan"}));
     app.add_option("-n,--points", o.points, "Number of points")->capture_default_str();
@@ -135,8 +137,11 @@ int main(int argc, char** argv) {
     app.add_option("--size", o.size, "Shape diameter or edge in metres")->capture_default_str();
     app.add_option("--scale", o.scale, "LAS scale factor (coordinate step) in metres")->capture_default_str();
     app.add_option("--origin", o.origin, "X,Y,Z added to the scene (deck default: 431250,6700200,10)")
-        ->expected(3)->delimiter(',');
-    app.add_option("--color", o.color, "R,G,B of a single shape, 0-255")->expected(3)->delimiter(',')
+        ->expected(3)
+        ->delimiter(',');
+    app.add_option("--color", o.color, "R,G,B of a single shape, 0-255")
+        ->expected(3)
+        ->delimiter(',')
         ->check(CLI::Range(0, 255));
     app.add_option("-o,--output", o.output, "Output file, or - for standard output")->capture_default_str();
     try {

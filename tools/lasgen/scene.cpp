@@ -15,9 +15,15 @@ namespace {
 
 constexpr double two_pi = 2 * std::numbers::pi;
 
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double length(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+Vec3 add(const Vec3& a, const Vec3& b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Vec3 scaled(const Vec3& a, double s) {
+    return {a[0] * s, a[1] * s, a[2] * s};
+}
+double length(const Vec3& a) {
+    return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
 Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -34,9 +40,7 @@ struct Random {
     double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; } // [0,1)
     // Approximately standard normal (Irwin-Hall: four uniforms, rescaled to unit variance),
     // bounded at +-3.46 sigma like a real scanner's noise, and far cheaper than Box-Muller.
-    double noise() {
-        return (uniform() + uniform() + uniform() + uniform() - 2.0) * 1.7320508075688772;
-    }
+    double noise() { return (uniform() + uniform() + uniform() + uniform() - 2.0) * 1.7320508075688772; }
 };
 
 Primitive quad(const Vec3& origin, const Vec3& u, const Vec3& v, Rgb8 color, bool holes = false) {

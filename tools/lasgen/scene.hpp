@@ -45,17 +45,17 @@ struct Hole {
 
 struct Scene {
     std::string name;
-    Vec3 origin{};           // added to every local coordinate
+    Vec3 origin{}; // added to every local coordinate
     std::vector<Primitive> primitives;
     std::vector<double> cumulative; // normalised running sum of weights, one per primitive
     std::vector<Hole> holes;        // no points inside these balls (scan shadows)
     // Footprints (x0, y0, x1, y1) of what stands on the deck: no deck points under them, as no
     // scanner sees the deck under a container.
     std::vector<std::array<double, 4>> footprints;
-    double noise_sigma = 0;         // near-gaussian noise per axis, bounded at 3.46 sigma
-    bool varying_density = false;   // several-fold denser in the middle of the deck than at its ends
-    double tilt_x = 0, tilt_y = 0;  // radians, applied to the whole scene (a ship's trim and list)
-    Vec3 min{}, max{};              // bounds that contain every point the scene can produce
+    double noise_sigma = 0;        // near-gaussian noise per axis, bounded at 3.46 sigma
+    bool varying_density = false;  // several-fold denser in the middle of the deck than at its ends
+    double tilt_x = 0, tilt_y = 0; // radians, applied to the whole scene (a ship's trim and list)
+    Vec3 min{}, max{};             // bounds that contain every point the scene can produce
 };
 
 struct SceneOptions {

@@ -16,8 +16,8 @@
 namespace lasmesh {
 
 struct GridChoice {
-    GridRequest request;  // cells along the longest axis
-    std::string reason;   // for the summary: "the points cover about 120 m2, ...: 180 cells"
+    GridRequest request; // cells along the longest axis
+    std::string reason;  // for the summary: "the points cover about 120 m2, ...: 180 cells"
 };
 
 // Points per surface cell aimed at, and the cells along the longest axis allowed.

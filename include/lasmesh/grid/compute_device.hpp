@@ -11,11 +11,11 @@
 namespace lasmesh {
 
 struct DeviceInfo {
-    int index = 0;           // position in list_devices(), across all platforms
+    int index = 0; // position in list_devices(), across all platforms
     std::string platform;
     std::string name;
-    std::string type;        // "GPU", "CPU", "accelerator" or "other"
-    std::string version;     // the device's OpenCL version string
+    std::string type;    // "GPU", "CPU", "accelerator" or "other"
+    std::string version; // the device's OpenCL version string
     std::uint64_t global_memory = 0;
     std::uint64_t max_alloc = 0; // CL_DEVICE_MAX_MEM_ALLOC_SIZE: the largest single buffer
 };
@@ -25,7 +25,7 @@ struct DeviceInfo {
 std::vector<DeviceInfo> list_devices();
 
 class ComputeDevice {
-public:
+  public:
     // `selector`: "auto" (the first GPU, else the first device), an index from list_devices(),
     // or a case-insensitive part of a device name. Throws Error (device, or usage for a selector
     // that matches nothing).
@@ -39,7 +39,7 @@ public:
     struct Impl; // OpenCL objects; defined in src/opencl_device.hpp for the stages that use them
     Impl& impl() { return *impl_; }
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 

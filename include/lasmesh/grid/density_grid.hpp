@@ -23,12 +23,12 @@ using Rgb8 = std::array<std::uint8_t, 3>;
 
 struct AccumulateOptions {
     GridRequest grid;
-    std::optional<Bounds> bounds;   // default: the header bounds
-    std::optional<GridSpec> spec;   // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
-    std::uint64_t slice_bytes = 0;  // upper limit on one upload (--chunk-mb); 0: 16 MiB
-    std::uint64_t max_memory = 0;   // --max-memory, host and device together; 0: no limit of ours
+    std::optional<Bounds> bounds;    // default: the header bounds
+    std::optional<GridSpec> spec;    // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
+    std::uint64_t slice_bytes = 0;   // upper limit on one upload (--chunk-mb); 0: 16 MiB
+    std::uint64_t max_memory = 0;    // --max-memory, host and device together; 0: no limit of ours
     std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
-    std::uint64_t max_alloc = 0;    // lower the device's maximum allocation (tests); 0: the device's
+    std::uint64_t max_alloc = 0;     // lower the device's maximum allocation (tests); 0: the device's
     // Use a CPU device as a discrete GPU is used: buffers in the device's own memory, filled and
     // uploaded by the device, instead of host memory mapped (tests run a GPU's path on PoCL).
     bool device_memory = false;
@@ -50,7 +50,7 @@ struct CellSums {
 // the grid spans (a dense index over a 4096 x 4096 x 1024 grid took a gigabyte and most of a
 // run's time for 20,000 points).
 class BrickTable {
-public:
+  public:
     BrickTable() = default;
     // keys[i] (unique) finds i + 1.
     explicit BrickTable(const std::vector<std::uint64_t>& keys);
@@ -65,9 +65,11 @@ public:
     }
     std::uint64_t bytes() const { return keys_.size() * (sizeof(std::uint64_t) + sizeof(std::uint32_t)); }
 
-private:
+  private:
     static constexpr std::uint64_t empty = ~std::uint64_t{0}; // no brick has this key
-    std::size_t slot(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+    std::size_t slot(std::uint64_t key) const {
+        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+    }
     int shift_ = 63;
     std::vector<std::uint64_t> keys_;
     std::vector<std::uint32_t> values_;
@@ -81,7 +83,7 @@ struct DensityGrid {
     static_assert(brick_cells <= 64, "a brick's occupied cells are the bits of one 64-bit mask");
 
     GridSpec spec;
-    std::string grid_reason; // how an automatic grid was chosen ("auto: ..."); empty otherwise
+    std::string grid_reason;       // how an automatic grid was chosen ("auto: ..."); empty otherwise
     std::array<AxisCells, 3> axes; // each axis's cell starts in raw LAS integers
     Vec3 scale{1, 1, 1}, offset{}; // the LAS header's, to turn raw sums into coordinates
     std::array<std::uint32_t, 3> bricks{};
@@ -124,7 +126,8 @@ struct DensityGrid {
             z >= std::int64_t{spec.dims[2]})
             return no_record;
         const std::uint64_t brick =
-            (std::uint64_t(z >> brick_bits) * bricks[1] + std::uint64_t(y >> brick_bits)) * bricks[0] + std::uint64_t(x >> brick_bits);
+            (std::uint64_t(z >> brick_bits) * bricks[1] + std::uint64_t(y >> brick_bits)) * bricks[0] +
+            std::uint64_t(x >> brick_bits);
         const std::uint32_t at = brick_table.find(brick);
         if (at == 0) return no_record;
         const std::int64_t m = brick_size - 1;
@@ -136,7 +139,8 @@ struct DensityGrid {
     // The grid coordinates of cell `bit` of brick `key`.
     std::array<std::int64_t, 3> cell_in_brick(std::uint64_t key, unsigned bit) const {
         const std::uint64_t bx = key % bricks[0], by = key / bricks[0] % bricks[1], bz = key / bricks[0] / bricks[1];
-        return {std::int64_t(bx * brick_size + bit % brick_size), std::int64_t(by * brick_size + bit / brick_size % brick_size),
+        return {std::int64_t(bx * brick_size + bit % brick_size),
+                std::int64_t(by * brick_size + bit / brick_size % brick_size),
                 std::int64_t(bz * brick_size + bit / (brick_size * brick_size))};
     }
     // visit(cell coordinates, record index) for every cell that holds a point, bricks in
@@ -166,7 +170,8 @@ struct DensityGrid {
     Vec3 centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const;
 };
 
-// Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows with the surface and is checked as it grows.
+// Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows
+// with the surface and is checked as it grows.
 struct MemoryNeed {
     std::uint64_t device_bytes = 0;
     std::uint64_t host_bytes = 0;

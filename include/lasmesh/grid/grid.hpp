@@ -24,10 +24,12 @@ struct Bounds {
 struct GridRequest {
     enum class Kind { automatic, longest_axis, explicit_dims, voxel_size } kind = Kind::automatic;
     std::array<std::uint32_t, 3> dims{0, 0, 0}; // longest_axis uses dims[0]
-    double voxel = 0;                            // voxel_size: cell edge in file units
+    double voxel = 0;                           // voxel_size: cell edge in file units
 
     static GridRequest longest(std::uint32_t n) { return {Kind::longest_axis, {n, 0, 0}, 0}; }
-    static GridRequest cells(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz) { return {Kind::explicit_dims, {nx, ny, nz}, 0}; }
+    static GridRequest cells(std::uint32_t nx, std::uint32_t ny, std::uint32_t nz) {
+        return {Kind::explicit_dims, {nx, ny, nz}, 0};
+    }
     static GridRequest cell_edge(double edge) { return {Kind::voxel_size, {0, 0, 0}, edge}; }
 };
 

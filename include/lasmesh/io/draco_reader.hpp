@@ -19,5 +19,4 @@ Mesh decode_draco(std::string_view bytes, const std::string& name);
 // A .drc file; throws Error (input) "<path>: ...".
 Mesh read_draco(const std::string& path);
 
-
 } // namespace lasmesh

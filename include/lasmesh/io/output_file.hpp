@@ -14,8 +14,9 @@
 namespace lasmesh {
 
 class OutputFile {
-public:
-    // Creates ".lasmesh-XXXXXX.tmp" in the folder of `path`; throws Error (output) when the folder is missing or read-only.
+  public:
+    // Creates ".lasmesh-XXXXXX.tmp" in the folder of `path`; throws Error (output) when the folder is missing or
+    // read-only.
     explicit OutputFile(std::string path);
     ~OutputFile(); // removes the temporary file unless commit() succeeded
     OutputFile(const OutputFile&) = delete;
@@ -31,7 +32,7 @@ public:
     const std::string& path() const { return path_; }
     std::uint64_t bytes() const { return bytes_; } // written so far
 
-private:
+  private:
     [[noreturn]] void fail(const std::string& doing);
     std::string path_, temporary_;
     std::unique_ptr<char[]> buffer_; // stdio's buffer for file_: 1 MiB, fewer write calls
@@ -52,7 +53,8 @@ void remove_unfinished_outputs();
 
 // Writes `bytes` encoded in memory (Draco, glTF) as the whole of `path`, through an OutputFile.
 // `encode` runs first; its errors are prefixed with the path. An empty mesh is refused.
-void write_encoded(const std::string& path, const std::string& format, bool empty, const std::function<std::string()>& encode);
+void write_encoded(const std::string& path, const std::string& format, bool empty,
+                   const std::function<std::string()>& encode);
 
 // Checks before any work that `path`'s folder exists and is writable; throws Error (output).
 void check_output_folder(const std::string& path);

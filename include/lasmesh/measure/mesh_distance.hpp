@@ -3,8 +3,8 @@
 // searches through a bounding volume hierarchy. Coordinates are in the mesh's local frame.
 #pragma once
 
-#include "lasmesh/read/las_header.hpp"
 #include "lasmesh/mesh.hpp"
+#include "lasmesh/read/las_header.hpp"
 
 #include <array>
 #include <cstdint>
@@ -32,19 +32,19 @@ struct Bvh {
 
 // Nearest triangle of a mesh, for any query point.
 class TriangleSearch {
-public:
+  public:
     explicit TriangleSearch(const Mesh& mesh); // the mesh must outlive the search
     // +infinity when the mesh has no triangles. `hint`: see PointSearch::distance.
     double distance(const Vec3& p, std::uint32_t* hint = nullptr) const;
 
-private:
+  private:
     const Mesh& mesh_;
     Bvh tree_;
 };
 
 // Nearest of a set of points, for any query point.
 class PointSearch {
-public:
+  public:
     explicit PointSearch(std::vector<Point3f> points);
     // +infinity when there are no points. `hint` (optional, in and out): the index of the
     // nearest item of a previous query close by, updated to this query's; it only speeds up.
@@ -52,7 +52,7 @@ public:
     std::size_t size() const { return points_.size(); }
     Vec3 point(std::size_t i) const { return {points_[i][0], points_[i][1], points_[i][2]}; }
 
-private:
+  private:
     std::vector<Point3f> points_;
     Bvh tree_;
 };

@@ -17,8 +17,8 @@ struct SimplifyOptions {
 
 struct SimplifyReport {
     std::size_t triangles_before = 0, triangles_after = 0;
-    double error = 0;         // the bound asked for, in the mesh's units
-    double result_error = 0;  // the largest bound a face of the result carries (at most `error`), same units
+    double error = 0;        // the bound asked for, in the mesh's units
+    double result_error = 0; // the largest bound a face of the result carries (at most `error`), same units
     double seconds = 0;
 };
 
@@ -43,7 +43,7 @@ struct SimplifyCheck {
     // of the original area-weighted vertex normals of their three vertices. Faces that are in
     // the original as they are do not count (the extraction folds a few faces itself).
     std::size_t flipped = 0;
-    std::size_t unmatched_vertices = 0;            // vertices at no original vertex's position
+    std::size_t unmatched_vertices = 0;              // vertices at no original vertex's position
     std::size_t bad_edges = 0, bad_edges_before = 0; // used by 3+ faces, or twice in one direction
     std::size_t zero_area = 0, zero_area_before = 0; // faces with (next to) no area
 };

@@ -21,7 +21,7 @@ std::string_view compression_name(Compression compression);
 Compression detect_compression(const std::byte* first_bytes, std::size_t size);
 
 class InputStream {
-public:
+  public:
     // `path` is a file path, or "-" for standard input. Throws Error (input) when the path is
     // missing, a directory or unreadable; Error (usage) for "-" when standard input is a terminal.
     explicit InputStream(const std::string& path);
@@ -50,7 +50,7 @@ public:
     // Size of the underlying file when it is a regular file; none for pipes.
     std::optional<std::uint64_t> raw_size() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -17,10 +17,10 @@ using Vec3 = std::array<double, 3>;
 // A variable length record as listed in the header area; its payload is read past, not kept
 // (except the LASzip VLR's, which the LAZ decoder needs).
 struct Vlr {
-    std::string user_id;     // up to 16 characters, trailing NULs removed
+    std::string user_id; // up to 16 characters, trailing NULs removed
     std::uint16_t record_id = 0;
-    std::uint16_t length = 0; // payload bytes after the 54-byte VLR header
-    std::string description; // up to 32 characters, trailing NULs removed
+    std::uint16_t length = 0;    // payload bytes after the 54-byte VLR header
+    std::string description;     // up to 32 characters, trailing NULs removed
     std::vector<std::byte> data; // the payload, kept only for the LASzip VLR
 };
 
@@ -56,7 +56,9 @@ int rgb_offset(int point_format);
 // Smallest header the version defines: 227 bytes for 1.0-1.2, 235 for 1.3, 375 for 1.4.
 std::uint16_t minimum_header_size(int version_minor);
 
-inline bool has_color(const LasHeader& header) { return rgb_offset(header.point_format) >= 0; }
+inline bool has_color(const LasHeader& header) {
+    return rgb_offset(header.point_format) >= 0;
+}
 std::string version_string(const LasHeader& header);
 
 // Reads the header block and the VLRs, then reads past any gap up to the offset to point data,

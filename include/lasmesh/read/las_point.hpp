@@ -28,8 +28,7 @@ struct PointDecoder {
 
     // Every point format starts with X, Y, Z as 32-bit integers.
     static RawXYZ raw_xyz(const std::byte* record) {
-        return {load_le<std::int32_t>(record), load_le<std::int32_t>(record + 4),
-                load_le<std::int32_t>(record + 8)};
+        return {load_le<std::int32_t>(record), load_le<std::int32_t>(record + 4), load_le<std::int32_t>(record + 8)};
     }
     double to_world(int axis, std::int32_t raw) const { return raw * scale[axis] + offset[axis]; }
     Vec3 position(const std::byte* record) const {

@@ -21,7 +21,7 @@ class LazDecoder;
 }
 
 class LasReader {
-public:
+  public:
     // Opens `path` ("-" for standard input) and reads the header; throws Error (input).
     explicit LasReader(const std::string& path);
     ~LasReader();
@@ -44,7 +44,7 @@ public:
     // never read; empty otherwise.
     std::string laz_beyond_header() const;
 
-private:
+  private:
     InputStream stream_;
     LasHeader header_;
     std::uint64_t records_read_ = 0;
