@@ -22,8 +22,8 @@ test_packages=(
   groff-base dpkg-dev
   # the viewers test opens the outputs in other programs: assimp (as Open3D and many viewers do)
   assimp-utils python3-open3d
-  # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
-  clang-14 libclang-rt-14-dev
+  # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes; the format check
+  clang-14 libclang-rt-14-dev clang-format-14
 )
 # --demo: what the demo needs and only the targets named (lasmesh, lasgen), so a first run shows a
 # mesh after building two programs, not the test suite.

@@ -4,6 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/build.sh
+bash tools/format.sh --check
 # The Khronos glTF validator for the .glb tests, pinned, into the build folder; once.
 validator_version=2.0.0-dev.3.10
 if ! grep -qs "\"version\": \"$validator_version\"" build/gltf-validator/node_modules/gltf-validator/package.json; then
