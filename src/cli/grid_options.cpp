@@ -41,21 +41,13 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         ->check(positive_number());
 }
 
-namespace {
-
-// --grid auto, and no --voxel.
-bool grid_is_auto(const GridOptions& o) {
-    return !o.voxel && o.grid == "auto";
-}
-
-} // namespace
-
 AccumulateOptions accumulate_options(const GridOptions& o) {
     AccumulateOptions a;
+    // --voxel wins over --grid; --grid auto is the default request, which the library resolves.
     if (o.voxel)
         a.grid = voxel_request(*o.voxel);
-    else if (!grid_is_auto(o))
-        a.grid = parse_grid_request(o.grid); // auto: the default request
+    else if (o.grid != "auto")
+        a.grid = parse_grid_request(o.grid);
     if (!o.bounds.empty()) a.bounds = parse_bounds(o.bounds);
     a.slice_bytes = static_cast<std::uint64_t>(o.chunk_mb * 1048576.0);
     a.max_memory = static_cast<std::uint64_t>(o.max_memory_mb * 1048576.0);

@@ -42,7 +42,7 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << format_double(r.origin[2]) << " (output positions are relative to it)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
-            << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : std::string()) << "\n"
+            << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : " (in the file's units)") << "\n"
             << "simplify       ";
     if (r.simplify.error > 0)
         summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, bound "

@@ -66,6 +66,8 @@ print(max(struct.unpack_from("<f", data, stride * v + 8)[0] for v in range(n)))'
 check "outlier clusters removed" python3 -c "assert 7.0 < $(top "$dir/clean.ply") < 8.5"
 removed=$(grep -o '[0-9]* removed' "$dir/summary.txt" | cut -d' ' -f1)
 check "summary counts the removed pieces: the 3 outlier clusters at least (got ${removed:-none})" test "${removed:-0}" -ge 3
+"$lasmesh" "$dir/d.las" -o "$dir/x.ply" --grid 128 --min-piece 5 2> "$dir/length.txt"
+check "a --min-piece length is said to be in the file's units" has "$dir/length.txt" "below a diagonal of 5 (in the file's units)"
 "$lasmesh" "$dir/d.las" -o "$dir/x.ply" --min-piece 5%% 2> /dev/null; rc=$?
 check "a bad --min-piece is a usage error" test "$rc" -eq 1
 
