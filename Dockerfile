@@ -10,7 +10,7 @@ RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq 
       ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers libdraco-dev > /dev/null
 COPY . /src
 RUN cmake -S /src -B /build -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON -DLASMESH_BUILD_TESTS=OFF > /dev/null \
- && cmake --build /build --parallel "$(nproc)" --target lasmesh \
+ && cmake --build /build --parallel "$(nproc)" --target lasmesh man_page \
  && cd /build && cpack -G DEB -B /deb
 
 FROM debian:12-slim

@@ -7,6 +7,7 @@
 #include "info_command.hpp"
 #include "kernel_cache.hpp"
 #include "lasmesh/error.hpp"
+#include "man_page.hpp"
 #include "mesh_command.hpp"
 #include "option_parsing.hpp"
 #include "progress.hpp"
@@ -14,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <fstream>
 #include <iostream>
 #include <new>
 
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
     lasmesh::cli::add_mesh_options(app, mesh);
 
     lasmesh::cli::InfoOptions info;
-    CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS file");
+    CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS or LAZ file");
     info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
                          "  xzcat deck.las.xz | lasmesh info -");
     info_command
@@ -73,6 +75,9 @@ int main(int argc, char** argv) {
     CLI::App* compare_command = lasmesh::cli::add_compare_command(app, compare);
 
     CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
+    // The build writes the man page from these declarations (hidden: not for users).
+    std::string man_path;
+    app.add_option("--man-page", man_path)->group("");
 
     try {
         app.parse(argc, argv);
@@ -81,6 +86,11 @@ int main(int argc, char** argv) {
         // One line with our prefix, like every other error, rather than CLI11's two.
         std::cerr << "lasmesh: " << e.what() << " (see lasmesh --help)\n";
         return static_cast<int>(lasmesh::ErrorKind::usage);
+    }
+
+    if (!man_path.empty()) {
+        std::ofstream(man_path) << lasmesh::cli::man_page(app, LASMESH_VERSION);
+        return 0;
     }
 
     try {

@@ -11,6 +11,16 @@ cmake --install "$build" --prefix "$dir/prefix" > "$dir/install.log"
 check "the command is installed and runs" "$dir/prefix/bin/lasmesh" --version
 check "the man page is installed" test -s "$dir/prefix/share/man/man1/lasmesh.1"
 check "the man page renders" bash -c "groff -man -Tutf8 -P-cbou -ww '$dir/prefix/share/man/man1/lasmesh.1' 2>&1 | grep -q '^EXIT STATUS'"
+# Written from the same declarations as --help: every option of every command is in it.
+man=$dir/prefix/share/man/man1/lasmesh.1
+missing=""
+for command in "" info grid compare; do
+  for option in $("$dir/prefix/bin/lasmesh" $command --help | grep -o -- '--[a-z][a-z-]*' | sort -u); do
+    grep -qF -- "${option//-/\\-}" "$man" || missing+=" $command$option"
+  done
+done
+check "the man page has every option --help shows" test -z "$missing" || echo "missing from the man page:$missing"
+check "the man page has each command's examples" grep -qF 'lasmesh compare deck.drc deck.las \-\-json' "$man"
 check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/mesh/marching_cubes.hpp"
 check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
 check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
