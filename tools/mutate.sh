@@ -65,7 +65,7 @@ for tool in gltf-validator laz-perf; do ln -sfn "$root/build/$tool" "$build/$too
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$tree" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi
-build_tree() { cmake --build "$build" --parallel "$(nproc)" --target lasmesh lasmesh_tests lasgen -- --no-print-directory > "$work/build.log" 2>&1; }
+build_tree() { cmake --build "$build" --parallel "$(nproc)" --target lasmesh lasmesh_tests lasgen man_page -- --no-print-directory > "$work/build.log" 2>&1; }
 echo "mutate: building the copy in $build" >&2
 build_tree || { tail -20 "$work/build.log"; echo "mutate: the unmutated copy does not build" >&2; exit 1; }
 
