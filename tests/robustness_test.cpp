@@ -8,6 +8,7 @@
 #include "lasmesh/io/ply_reader.hpp"
 #include "lasmesh/io/same_file.hpp"
 #include "lasmesh/measure/compare.hpp"
+#include "lasmesh/number_text.hpp"
 #include "lasmesh/read/las_reader.hpp"
 #include "test_support.hpp"
 
@@ -226,4 +227,17 @@ TEST_CASE("PLY: counts beyond the file's size and non-finite origins are refused
     CHECK_THROWS_WITH_AS(read_ply(write_text("ply\nformat ascii 1.0\ncomment cell_size inf\n" + body)),
                          doctest::Contains("cell_size"), Error);
     CHECK(read_ply(write_text("ply\nformat ascii 1.0\ncomment origin 1 2 3\n" + body)).origin == Vec3{1, 2, 3});
+}
+
+TEST_CASE("numbers for people: significant digits, no exponent where none is needed") {
+    CHECK(four_digits(0.11931221541867104) == "0.1193");
+    CHECK(four_digits(0.05965610770933552) == "0.05966");
+    CHECK(four_digits(977.5) == "977.5");
+    CHECK(four_digits(0.5) == "0.5");
+    CHECK(four_digits(3) == "3");
+    CHECK(four_digits(-2.0599999999999996) == "-2.06");
+    CHECK(significant(2362.4, 3) == "2360");
+    CHECK(significant(796931, 3) == "797000");
+    CHECK(four_digits(1e301) == "1e+301");
+    CHECK(four_digits(1e-9) == "1e-09");
 }

@@ -19,13 +19,16 @@ inline std::string shortest(double value) {
 }
 
 // `digits` significant digits, without an exponent where a person reads better without one
-// (0.1191, 977.5, 2360, 6700200); very large or small values keep it (1e+300).
+// (0.1191, 977.5, 2360, 797000); very large or small values keep it (1e+300).
 inline std::string significant(double value, int digits) {
     std::ostringstream text;
     const double magnitude = std::abs(value);
     if (magnitude >= 1e-4 && magnitude < 1e12) {
-        const int decimals = std::max(0, digits - 1 - static_cast<int>(std::floor(std::log10(magnitude))));
-        text << std::fixed << std::setprecision(decimals) << value;
+        const int exponent = static_cast<int>(std::floor(std::log10(magnitude)));
+        const int decimals = std::max(0, digits - 1 - exponent);
+        // Past the point's left, round to the digits too: 796931 to 797000.
+        const double unit = decimals == 0 ? std::pow(10.0, exponent - digits + 1) : 1;
+        text << std::fixed << std::setprecision(decimals) << (unit > 1 ? std::round(value / unit) * unit : value);
         std::string t = text.str();
         // No trailing zeros after the point: 0.5, not 0.5000.
         if (t.find('.') != std::string::npos) {
