@@ -2,17 +2,20 @@
 // The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
 // simplify -> normals -> write each output, timed per stage and per output.
 #include "lasmesh/build_mesh.hpp"
-#include "lasmesh/number_text.hpp"
+#include "number_text.hpp"
 
+#include "grid/auto_grid.hpp"
+#include "grid/cell_sums.hpp"
+#include "io/output_file.hpp"
+#include "io/ply_writer.hpp"
+#include "io/same_file.hpp"
+#include "io/write_into.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/grid/density_grid.hpp"
-#include "lasmesh/io/gltf_writer.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/ply_writer.hpp"
-#include "lasmesh/io/same_file.hpp"
-#include "lasmesh/mesh/normals.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "lasmesh/normals.hpp"
+#include "mesh/marching_cubes.hpp"
+#include "mesh/surface_sheet.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_scan.hpp"
 
 #include <tbb/global_control.h>
 
@@ -57,22 +60,6 @@ Bounds scanned_bounds(const std::string& input) {
     return {scan.min, scan.max};
 }
 
-// Writes one output into its temporary file; build_mesh renames them all at the end.
-void write_output(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
-                  OutputFile& file) {
-    if (format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
-    std::string bytes;
-    try {
-        if (format == MeshFormat::draco)
-            bytes = encode_draco(mesh, output.draco);
-        else
-            bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
-    } catch (const Error& e) {
-        throw Error(e.kind(), output.path + ": " + e.what());
-    }
-    file.write(bytes);
-}
-
 // The name of the .glb's scene, node, mesh and material: the input's file name without extension.
 std::string mesh_name(const std::string& input) {
     const std::string stem = std::filesystem::path(input).stem().string();
@@ -82,7 +69,7 @@ std::string mesh_name(const std::string& input) {
 // The surface cells (count above the iso) of `grid`, and of the grid with cells twice as large
 // (2 x 2 x 2 merged): how the surface shrinks with the grid, which at sparse grids (a few points a
 // cell) is far slower than the square of the grid a dense surface follows.
-std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const DensityGrid& grid, double iso) {
+std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const CellGrid& grid, double iso) {
     std::uint64_t fine = 0;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> coarse; // (coarse cell, count)
     coarse.reserve(grid.cells.size());
@@ -107,7 +94,7 @@ std::pair<std::uint64_t, std::uint64_t> surface_cells_and_coarser(const DensityG
 // max_memory. Per surface cell (count above the iso) and per grid cell, the bytes measured on
 // the deck at grids 256-2048, rounded up: the cell's plane, normal and orientation links, the
 // mesh around it; the Draco and glTF encoders' copy of the mesh.
-void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOptions& o,
+void check_extraction_memory(const CellGrid& grid, double iso, const BuildOptions& o,
                              const std::vector<MeshFormat>& formats, const std::string& input,
                              std::uint64_t in_use_before_grid) {
     bool encoded = false;
@@ -115,8 +102,7 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
     // The grid is released before the outputs are written, so the encoders' copy replaces it.
     const std::uint64_t fixed = 64ull << 20;
     const auto need_for = [&](double surface_cells, double bricks) {
-        return std::max(surface_cells * 230 + bricks * DensityGrid::brick_cells * 10,
-                        encoded ? surface_cells * 400 : 0.0);
+        return std::max(surface_cells * 230 + bricks * CellGrid::brick_cells * 10, encoded ? surface_cells * 400 : 0.0);
     };
     std::uint64_t surface_cells = 0;
     for (const CellSums& cell : grid.cells) surface_cells += static_cast<double>(cell.count) > iso;
@@ -137,12 +123,14 @@ void check_extraction_memory(const DensityGrid& grid, double iso, const BuildOpt
                 input + ": the grid " + std::to_string(grid.spec.dims[0]) + "x" + std::to_string(grid.spec.dims[1]) +
                     "x" + std::to_string(grid.spec.dims[2]) + " does not fit: its " + std::to_string(surface_cells) +
                     " surface cells need about " + mebibytes(static_cast<std::uint64_t>(need)) +
-                    " to mesh and write besides the " + mebibytes(in_use) + " in use, more than --max-memory (" +
-                    mebibytes(o.max_memory) + ")" + (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
-                    " (nothing was written)");
+                    " to mesh and write besides the " + mebibytes(in_use) + " in use, more than the memory limit (" +
+                    mebibytes(o.max_memory) + ")" +
+                    (fit > 0 ? "; a grid of " + std::to_string(fit) + " cells would fit" : "") +
+                    " (nothing was written)",
+                "grid", fit > 0 ? std::to_string(fit) : "");
 }
 
-// Far more points a cell than --grid auto aims at: the grid is much coarser than the points.
+// Far more points a cell than a grid chosen from the data aims at: the grid is much coarser than the points.
 constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
 
 // Why the mesh came out empty, and what to try: the step that removed the last triangle, and
@@ -156,34 +144,36 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
     const bool too_fine = r.median_count <= 1;
     if (r.points_read == r.points_outside) {
         why = "every point lies outside the grid (" + std::to_string(r.points_read) + " read, " +
-              std::to_string(r.points_outside) + " outside the grid): --scan-bounds or --bounds covers them";
+              std::to_string(r.points_outside) +
+              " outside the grid): scanning the points for their bounds, or bounds around them, covers them";
+        option = "scan_bounds,bounds";
     } else if (extracted == 0 && !(double(fullest) > r.iso) && !(r.iso_auto && too_fine)) {
         why = "the iso " + shortest(r.iso) + " points per cell leaves no cell: the fullest holds " +
-              std::to_string(fullest) + " points: try an --iso below " + std::to_string(fullest) +
-              " (or auto), or a coarser --grid than " + dims;
+              std::to_string(fullest) + " points: try an iso below " + std::to_string(fullest) +
+              " (or automatic), or a coarser grid than " + dims;
         option = "iso";
     } else if (too_coarse) {
         why = "the grid (" + cells + ") is far too coarse for these points: its " + std::to_string(r.occupied_cells) +
               " occupied cells hold a median of " + std::to_string(r.median_count) +
-              " points each; give a finer --grid (at most " + std::to_string(max_grid_cells) +
-              " cells an axis), or --bounds around each part of the data when they lie far apart";
+              " points each; give a finer grid (at most " + std::to_string(max_grid_cells) +
+              " cells an axis), or bounds around each part of the data when they lie far apart";
         option = "grid";
     } else if (too_fine) {
         why = "the grid (" + cells + ") is too fine for the points' density: its occupied cells hold a median of " +
               std::to_string(r.median_count) +
-              " point, so no surface holds together; give a coarser --grid, or --grid auto";
+              " point, so no surface holds together; give a coarser grid, or let it be chosen from the data";
         option = "grid";
     } else if (extracted == 0) {
         why = "no surface was found in the " + std::to_string(r.occupied_cells) + " occupied cells (a median of " +
-              std::to_string(r.median_count) + " points each): try a coarser --grid than " + dims;
+              std::to_string(r.median_count) + " points each): try a coarser grid than " + dims;
         option = "grid";
     } else if (r.pieces.removed > 0 && r.pieces.triangles_removed >= extracted) {
-        why = "--min-piece removed all " + std::to_string(r.pieces.removed) + " pieces (" +
+        why = "small-piece removal removed all " + std::to_string(r.pieces.removed) + " pieces (" +
               std::to_string(r.pieces.triangles_removed) + " triangles), each smaller than a diagonal of " +
-              shortest(r.pieces.min_diagonal) + ": try a smaller --min-piece, or --min-piece 0 to keep every piece";
+              shortest(r.pieces.min_diagonal) + ": try a smaller smallest piece, or 0 to keep every piece";
         option = "min_piece";
     } else {
-        why = "--simplify removed every triangle: try a smaller --simplify, or --simplify 0";
+        why = "simplification removed every triangle: try a smaller bound, or 0 for none";
         option = "simplify";
     }
     throw Error(ErrorKind::input, r.input + ": the mesh is empty, nothing written: " + why, option);
@@ -232,15 +222,6 @@ std::vector<MeshFormat> check_options(const std::string& input, const BuildOptio
 
 } // namespace
 
-std::optional<MeshFormat> format_from_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".ply") return MeshFormat::ply;
-    if (ext == ".drc") return MeshFormat::draco;
-    if (ext == ".glb") return MeshFormat::glb;
-    return std::nullopt;
-}
-
 BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
     BuildObserver silent;
     BuildObserver& watch = observer ? *observer : silent;
@@ -278,7 +259,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                           reader.stream().raw_size());
     };
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
-    DensityGrid grid = accumulate_density(reader, device, accumulate);
+    CellGrid grid = accumulate_cells(reader, device, accumulate);
     r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
@@ -297,7 +278,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                              four_digits(r.grid.cell_size) + ") is far too coarse for these points: its " +
                              std::to_string(r.occupied_cells) + " occupied cells hold a median of " +
                              std::to_string(r.median_count) +
-                             " points each; a finer --grid, or --bounds around each part of the data, resolves them");
+                             " points each; a finer grid, or bounds around each part of the data, resolves them");
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " + megabytes(r.pool_bytes) +
                  " of bricks in " + two_digits(r.read_accumulate) + " s");
@@ -311,9 +292,9 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.placement = o.placement;
     // The sheet releases the grid's cells as soon as it no longer reads them.
     Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso)
-                                                : extract_isosurface(grid, r.iso, o.placement);
+                                                : extract_closed_surface(grid, r.iso, o.placement);
     const std::size_t extracted = mesh.triangles.size();
-    grid = DensityGrid{}; // not needed any more: the writers get its memory
+    grid = CellGrid{}; // not needed any more: the writers get its memory
     watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(r.iso));
     watch.stage_started(BuildStage::extract, "removing small pieces");
     r.pieces = remove_small_pieces(mesh, o.min_piece);
@@ -350,7 +331,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
         watch.stage_started(BuildStage::write, "writing " + output.path);
         const auto output_start = std::chrono::steady_clock::now();
         files.push_back(std::make_unique<OutputFile>(output.path));
-        write_output(mesh, output, formats[i], name, *files.back());
+        write_mesh_into(mesh, output, formats[i], name, *files.back());
         files.back()->finish();
         r.outputs.push_back({output.path, files.back()->bytes(), seconds_since(output_start)});
         watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Accumulation on the OpenCL device (PoCL in CI) against hand-worked cases and a plain reference
 // written here, for every slicing, colour depth and grid edge case.
+#include "byte_order.hpp"
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
+#include "grid/auto_grid.hpp"
+#include "grid/cell_sums.hpp"
 #include "grid/opencl_device.hpp" // internal: build_program
-#include "lasmesh/byte_order.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/grid/density_grid.hpp"
-#include "lasmesh/read/las_point.hpp"
+#include "read/las_point.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -28,7 +28,7 @@ using test::dense;
 
 // The same occupied bricks and cells, each with the same exact sums, positions included (the
 // records themselves may lie in `cells` in another order: the device's).
-bool sums_equal(const DensityGrid& a, const DensityGrid& b) {
+bool sums_equal(const CellGrid& a, const CellGrid& b) {
     if (a.brick_keys != b.brick_keys || a.brick_masks.size() != b.brick_masks.size() ||
         a.cells.size() != b.cells.size())
         return false;
@@ -101,7 +101,7 @@ Reference reference_grid(const std::string& path, const GridSpec& g) {
     return ref;
 }
 
-void check_equal(const DensityGrid& sparse, const Reference& ref) {
+void check_equal(const CellGrid& sparse, const Reference& ref) {
     const test::DenseGrid got = test::dense(sparse);
     CHECK(sparse.points_outside == ref.outside);
     CHECK(got.count == ref.count);
@@ -139,7 +139,7 @@ TEST_CASE("points at known positions: cell faces, the upper bound, and outside")
         at(-0.01, 1, 1), // just below: outside
     };
     test::write_file(dir.file("known.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
-    const DensityGrid sparse = accumulate_file(dir.file("known.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
+    const CellGrid sparse = accumulate_file(dir.file("known.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
     const test::DenseGrid g = test::dense(sparse);
     CHECK(sparse.spec.dims == std::array<std::uint32_t, 3>{4, 2, 2});
     CHECK(sparse.spec.cell_size == 1.0);
@@ -173,7 +173,7 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
     test::write_file(dir.file("deck.las"), test::make_las(layout, deck, n, 5));
 
     AccumulateOptions options = grid_of("64");
-    const DensityGrid whole = accumulate_file(dir.file("deck.las"), options);
+    const CellGrid whole = accumulate_file(dir.file("deck.las"), options);
     check_equal(whole, reference_grid(dir.file("deck.las"), whole.spec));
     CHECK(whole.points_read == n);
     CHECK(whole.color_is_16bit());
@@ -183,7 +183,7 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
         CAPTURE(slice);
         AccumulateOptions sliced = options;
         sliced.slice_bytes = slice * record;
-        const DensityGrid g = accumulate_file(dir.file("deck.las"), sliced);
+        const CellGrid g = accumulate_file(dir.file("deck.las"), sliced);
         CHECK(g.brick_keys == whole.brick_keys); // the same layout, whatever order bricks were met in
         CHECK(dense(g).count == dense(whole).count);
         CHECK(dense(g).red == dense(whole).red);
@@ -194,7 +194,7 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
     small_alloc.max_alloc =
         whole.brick_keys.size() * brick_device_bytes(true) + 4096; // just the pool: slices must shrink
     small_alloc.slice_bytes = 1 << 30;
-    const DensityGrid g = accumulate_file(dir.file("deck.las"), small_alloc);
+    const CellGrid g = accumulate_file(dir.file("deck.las"), small_alloc);
     CHECK(dense(g).count == dense(whole).count);
     CHECK(dense(g).green == dense(whole).green);
     CHECK(sums_equal(g, whole));
@@ -205,7 +205,7 @@ TEST_CASE("random clouds: the device grid equals the reference, for every slicin
     chunked.max_alloc = std::bit_ceil(whole.brick_keys.size() / 8) * brick_device_bytes(true);
     chunked.slice_bytes = 4096 * record;
     REQUIRE(whole.brick_keys.size() >= 64);
-    const DensityGrid c = accumulate_file(dir.file("deck.las"), chunked);
+    const CellGrid c = accumulate_file(dir.file("deck.las"), chunked);
     CHECK(c.brick_keys == whole.brick_keys);
     CHECK(sums_equal(c, whole));
 }
@@ -222,9 +222,9 @@ TEST_CASE("a GPU's path (buffers in device memory, filled by the device) gives t
     const std::uint64_t n = 30011;
     test::write_file(dir.file("deck.las"), test::make_las(layout, lasgen::make_scene(scene), n, 9));
     AccumulateOptions options = grid_of("64");
-    const DensityGrid host = accumulate_file(dir.file("deck.las"), options);
+    const CellGrid host = accumulate_file(dir.file("deck.las"), options);
     options.device_memory = true;
-    const DensityGrid device = accumulate_file(dir.file("deck.las"), options);
+    const CellGrid device = accumulate_file(dir.file("deck.las"), options);
     CHECK(device.points_read == n);
     CHECK(device.brick_keys == host.brick_keys);
     CHECK(device.color_max_word == host.color_max_word);
@@ -236,7 +236,7 @@ TEST_CASE("a GPU's path (buffers in device memory, filled by the device) gives t
     REQUIRE(host.brick_keys.size() >= 64);
     options.slice_bytes = 1009 * lasgen::record_length(layout);
     options.max_alloc = std::bit_ceil(host.brick_keys.size() / 8) * brick_device_bytes(true);
-    const DensityGrid chunked = accumulate_file(dir.file("deck.las"), options);
+    const CellGrid chunked = accumulate_file(dir.file("deck.las"), options);
     CHECK(chunked.brick_keys == host.brick_keys);
     CHECK(sums_equal(chunked, host));
 }
@@ -249,8 +249,8 @@ TEST_CASE("8-bit colour in 16-bit fields and true 16-bit colour give the same me
                             {std::uint8_t(i % 256), std::uint8_t(255 - i % 256), std::uint8_t(i * 7 % 256)}));
     test::write_file(dir.file("c8.las"), las_with_points(points, {0, 0, 0}, {10, 10, 10}, 8));
     test::write_file(dir.file("c16.las"), las_with_points(points, {0, 0, 0}, {10, 10, 10}, 16));
-    const DensityGrid s8 = accumulate_file(dir.file("c8.las"), grid_of("10"));
-    const DensityGrid s16 = accumulate_file(dir.file("c16.las"), grid_of("10"));
+    const CellGrid s8 = accumulate_file(dir.file("c8.las"), grid_of("10"));
+    const CellGrid s16 = accumulate_file(dir.file("c16.las"), grid_of("10"));
     CHECK(!s8.color_is_16bit());
     CHECK(s16.color_is_16bit());
     const test::DenseGrid g8 = test::dense(s8), g16 = test::dense(s16);
@@ -266,7 +266,7 @@ TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell
     // 70,000 x 65535 = 4,587,450,000 > 2^32: the colour sums must carry into the high word.
     std::vector<lasgen::GeneratedPoint> points(70000, at(0.5, 0.5, 0.5, {255, 255, 255}));
     test::write_file(dir.file("white.las"), las_with_points(points, {0, 0, 0}, {1, 1, 1}, 16));
-    const DensityGrid sparse = accumulate_file(dir.file("white.las"), grid_of("1"));
+    const CellGrid sparse = accumulate_file(dir.file("white.las"), grid_of("1"));
     const test::DenseGrid g = test::dense(sparse); // refers to `sparse` for mean colours
     REQUIRE(g.count.size() == 1);
     CHECK(g.count[0] == 70000);
@@ -288,7 +288,7 @@ TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole 
     }
     test::write_file(dir.file("wide.las"), las_with_points(points, {0, 0, 0}, {20, 20, 20}, 16, 2, 1e-8));
     // The exact sums, from the records as written: raw integers minus the cell's start.
-    const DensityGrid whole = accumulate_file(dir.file("wide.las"), grid_of("2"));
+    const CellGrid whole = accumulate_file(dir.file("wide.las"), grid_of("2"));
     std::map<std::array<std::int64_t, 3>, CellSums> expected;
     {
         LasReader reader(dir.file("wide.las"));
@@ -316,8 +316,8 @@ TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole 
     REQUIRE(expected[{0, 0, 0}].position[0] > (std::uint64_t{1} << 44)); // thousands of wraps
     AccumulateOptions sliced = grid_of("2");
     sliced.slice_bytes = 64 << 10; // carries are taken between many slices
-    const DensityGrid in_slices = accumulate_file(dir.file("wide.las"), sliced);
-    for (const DensityGrid* g : {&whole, &in_slices}) {
+    const CellGrid in_slices = accumulate_file(dir.file("wide.las"), sliced);
+    for (const CellGrid* g : {&whole, &in_slices}) {
         CHECK(g->occupied_cells() == expected.size());
         for (const auto& [cell, sums] : expected) {
             const CellSums* got = g->find(cell[0], cell[1], cell[2]);
@@ -333,7 +333,7 @@ TEST_CASE("degenerate extents still give a valid grid") {
     test::TempDir dir;
     SUBCASE("a single point") {
         test::write_file(dir.file("one.las"), las_with_points({at(5, 5, 5)}, {5, 5, 5}, {5, 5, 5}));
-        const DensityGrid g = accumulate_file(dir.file("one.las"), grid_of("256"));
+        const CellGrid g = accumulate_file(dir.file("one.las"), grid_of("256"));
         CHECK(g.spec.dims == std::array<std::uint32_t, 3>{1, 1, 1});
         CHECK(dense(g).count[0] == 1);
         CHECK(g.points_outside == 0);
@@ -342,7 +342,7 @@ TEST_CASE("degenerate extents still give a valid grid") {
         std::vector<lasgen::GeneratedPoint> points;
         for (int i = 0; i <= 10; ++i) points.push_back(at(i, i / 2.0, 3));
         test::write_file(dir.file("flat.las"), las_with_points(points, {0, 0, 3}, {10, 5, 3}));
-        const DensityGrid g = accumulate_file(dir.file("flat.las"), grid_of("10"));
+        const CellGrid g = accumulate_file(dir.file("flat.las"), grid_of("10"));
         // 10 cells of 10 / 9 along x; 5 / (10 / 9) + 1 rounded up along y; z flat, in one cell.
         CHECK(g.spec.dims == std::array<std::uint32_t, 3>{10, 6, 1});
         CHECK(g.spec.origin[2] == doctest::Approx(3 - 5.0 / 9)); // the plane in the middle of its cells
@@ -351,7 +351,7 @@ TEST_CASE("degenerate extents still give a valid grid") {
     }
     SUBCASE("no points at all") {
         test::write_file(dir.file("none.las"), las_with_points({}, {0, 0, 0}, {0, 0, 0}));
-        const DensityGrid g = accumulate_file(dir.file("none.las"), grid_of("8"));
+        const CellGrid g = accumulate_file(dir.file("none.las"), grid_of("8"));
         CHECK(g.points_read == 0);
         CHECK(dense(g).count == std::vector<std::uint64_t>{0});
         CHECK(g.brick_keys.empty());
@@ -363,11 +363,11 @@ TEST_CASE("grid requests: automatic by default, resolved from the data; cells wi
     std::vector<lasgen::GeneratedPoint> points;
     for (int i = 0; i < 2000; ++i) points.push_back(at((i % 50) * 0.2, (i / 50) * 0.2, 0));
     test::write_file(dir.file("plane.las"), las_with_points(points, {0, 0, 0}, {9.8, 7.8, 0}, 8, 1));
-    const DensityGrid automatic = accumulate_file(dir.file("plane.las"), AccumulateOptions{});
+    const CellGrid automatic = accumulate_file(dir.file("plane.las"), AccumulateOptions{});
     CHECK(automatic.grid_reason.rfind("auto: ", 0) == 0);
     AccumulateOptions same;
     same.grid = GridRequest::longest(automatic.spec.dims[0]);
-    const DensityGrid chosen = accumulate_file(dir.file("plane.las"), same);
+    const CellGrid chosen = accumulate_file(dir.file("plane.las"), same);
     CHECK(chosen.spec.dims == automatic.spec.dims); // the same cells, asked for by number
     CHECK(chosen.grid_reason.empty());
     AccumulateOptions half_set;
@@ -389,7 +389,7 @@ TEST_CASE("--bounds, --voxel and explicit dimensions") {
     AccumulateOptions options;
     options.grid = voxel_request(0.5);
     options.bounds = Bounds{{0, -1, -1}, {5, 1, 1}};
-    const DensityGrid g = accumulate_file(dir.file("line.las"), options);
+    const CellGrid g = accumulate_file(dir.file("line.las"), options);
     // Half a cell to spare each side: 11 x 5 x 5 cells from (-0.25, -1.25, -1.25) to (5.25, 1.25, 1.25).
     CHECK(g.spec.dims == std::array<std::uint32_t, 3>{11, 5, 5});
     CHECK(g.spec.origin[0] == -0.25);
@@ -399,7 +399,7 @@ TEST_CASE("--bounds, --voxel and explicit dimensions") {
 
     options.grid = parse_grid_request("20x4x4");
     options.bounds.reset();
-    const DensityGrid e = accumulate_file(dir.file("line.las"), options);
+    const CellGrid e = accumulate_file(dir.file("line.las"), options);
     CHECK(e.spec.dims == std::array<std::uint32_t, 3>{20, 4, 4});
     CHECK(e.points_outside == 0);
 }
@@ -418,11 +418,12 @@ TEST_CASE("a grid too large for memory is refused before allocating, with one th
         CHECK(e.kind() == ErrorKind::usage);
         const std::string message = e.what();
         CHECK(message.find("1600x1600x1600") != std::string::npos);
-        CHECK(message.find("--max-memory") != std::string::npos);
-        const std::size_t at = message.find("--grid ");
-        REQUIRE(at != std::string::npos);
-        // The suggested grid really fits.
-        options.grid = parse_grid_request(message.substr(at + 7, message.find(' ', at + 7) - at - 7));
+        CHECK(message.find("more than the memory limit") != std::string::npos);
+        // The suggested grid, in the message and as a value for the option, really fits.
+        CHECK(e.option() == "grid");
+        REQUIRE(!e.suggestion().empty());
+        CHECK(message.find("a grid of " + e.suggestion() + " cells would fit") != std::string::npos);
+        options.grid = parse_grid_request(e.suggestion());
         CHECK(accumulate_file(dir.file("p.las"), options).points_read == 2);
     }
 }
@@ -459,7 +460,7 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
     const std::vector<lasgen::GeneratedPoint> points = {at(0.1, 0.2, 0.3), at(0.2, 0.4, 0.6), at(0.3, 0.6, 0.9),
                                                         at(3.25, 1.5, 1.75), at(4, 2, 2)};
     test::write_file(dir.file("m.las"), las_with_points(points, {0, 0, 0}, {4, 2, 2}));
-    const DensityGrid g = accumulate_file(dir.file("m.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
+    const CellGrid g = accumulate_file(dir.file("m.las"), exact_grid({0, 0, 0}, 1, {4, 2, 2}));
     const CellSums* first = g.find(0, 0, 0);
     REQUIRE(first != nullptr);
     CHECK(first->count == 3);
@@ -486,8 +487,8 @@ TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {
 TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the limit stops with advice") {
     test::TempDir dir;
     write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 200000, 3);
-    const DensityGrid coarse = accumulate_file(dir.file("s.las"), grid_of("64"));
-    const DensityGrid fine = accumulate_file(dir.file("s.las"), grid_of("256"));
+    const CellGrid coarse = accumulate_file(dir.file("s.las"), grid_of("64"));
+    const CellGrid fine = accumulate_file(dir.file("s.las"), grid_of("256"));
     // A surface: 4 x 4 = 16 times the cells would be 64 times for a volume.
     const double growth = double(fine.brick_keys.size()) / double(coarse.brick_keys.size());
     CHECK(growth > 8);
@@ -506,9 +507,10 @@ TEST_CASE("sparse grid: memory follows the surface, and a pool that outgrows the
         CAPTURE(message);
         CHECK(message.find("bricks") != std::string::npos);
         CHECK(message.find("of 200000 points") != std::string::npos);
-        const std::size_t at = message.find("--grid ");
-        REQUIRE(at != std::string::npos);
-        options.grid = parse_grid_request(message.substr(at + 7, message.find(' ', at + 7) - at - 7));
+        CHECK(e.option() == "grid");
+        REQUIRE(!e.suggestion().empty());
+        CHECK(message.find("a grid of " + e.suggestion() + " cells would fit") != std::string::npos);
+        options.grid = parse_grid_request(e.suggestion());
         CHECK(accumulate_file(dir.file("s.las"), options).points_read == 200000);
     }
 }
@@ -519,10 +521,10 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     // Cells of h = 0.2 and exactly 2h from one origin, every axis even: merged fine cells are
     // the coarse cells.
     const Vec3 origin{-5.1, -5.1, -2.3};
-    const DensityGrid fine = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {52, 52, 24}));
-    const DensityGrid direct = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.4, {26, 26, 12}));
+    const CellGrid fine = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {52, 52, 24}));
+    const CellGrid direct = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.4, {26, 26, 12}));
     REQUIRE(fine.points_outside == 0);
-    const DensityGrid merged = coarsen_grid(fine);
+    const CellGrid merged = coarsen_grid(fine);
     CHECK(merged.spec.dims == direct.spec.dims);
     CHECK(merged.spec.cell_size == direct.spec.cell_size);
     for (int a = 0; a < 3; ++a) CHECK(merged.axes[a].starts == direct.axes[a].starts);
@@ -532,8 +534,8 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     CHECK(merged.median_count() >= fine.median_count());
 
     // An odd axis: its last coarse cell covers the fine grid's last cell and ends where it ended.
-    const DensityGrid odd = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {63, 52, 24}));
-    const DensityGrid odd_merged = coarsen_grid(odd);
+    const CellGrid odd = accumulate_file(dir.file("t.las"), exact_grid(origin, 0.2, {63, 52, 24}));
+    const CellGrid odd_merged = coarsen_grid(odd);
     CHECK(odd_merged.spec.dims[0] == 32);
     CHECK(odd_merged.axes[0].starts.back() == odd.axes[0].starts.back());
     std::uint64_t total = 0;
@@ -557,7 +559,7 @@ TEST_CASE("points on the header's bounds are inside the grid, even where the sca
     CHECK(decoder.position(records.data() + 100 * decoder.record_length)[0] > 4878817.02); // the rounding
     for (const char* grid : {"8", "64", "1000"}) {
         CAPTURE(grid);
-        const DensityGrid g = accumulate_file(dir.file("edge.las"), grid_of(grid));
+        const CellGrid g = accumulate_file(dir.file("edge.las"), grid_of(grid));
         CHECK(g.points_outside == 0);
         std::uint64_t total = 0;
         for (const CellSums& c : g.cells) total += c.count;
@@ -623,7 +625,7 @@ HostSums host_sums(const std::string& path, const GridSpec& g) {
     return sums;
 }
 
-void check_against_host(const DensityGrid& g, const HostSums& expected) {
+void check_against_host(const CellGrid& g, const HostSums& expected) {
     CHECK(g.points_outside == expected.outside);
     CHECK(g.occupied_cells() == expected.cells.size());
     std::size_t wrong = 0;
@@ -677,7 +679,7 @@ TEST_CASE("every cell's count, position and colour sums equal a plain host accum
         for (const char* grid : {"37", "200"}) {
             CAPTURE(grid);
             AccumulateOptions options = grid_of(grid);
-            const DensityGrid whole = accumulate_file(dir.file("far.las"), options);
+            const CellGrid whole = accumulate_file(dir.file("far.las"), options);
             const HostSums expected = host_sums(dir.file("far.las"), whole.spec);
             check_against_host(whole, expected);
             for (const std::uint64_t records : {7u, 4096u}) {
@@ -692,10 +694,10 @@ TEST_CASE("every cell's count, position and colour sums equal a plain host accum
 TEST_CASE("--grid auto's second look: coarsened until the occupied cells' median count reaches 4, and no further") {
     test::TempDir dir;
     write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 20000, 4);
-    DensityGrid grid = accumulate_file(dir.file("s.las"), grid_of("512")); // far too fine: about a point a cell
+    CellGrid grid = accumulate_file(dir.file("s.las"), grid_of("512")); // far too fine: about a point a cell
     REQUIRE(grid.median_count() < auto_grid_min_median);
     // The same merges by hand: while the median is under 4.
-    DensityGrid by_hand = accumulate_file(dir.file("s.las"), grid_of("512"));
+    CellGrid by_hand = accumulate_file(dir.file("s.las"), grid_of("512"));
     int merges = 0;
     while (by_hand.median_count() < auto_grid_min_median) by_hand = coarsen_grid(by_hand), ++merges;
     REQUIRE(merges >= 2);

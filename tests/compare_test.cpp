@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Distances for `lasmesh compare`: exact point-triangle distances on hand-computed cases, the
 // searches against brute force, the statistics, surface sampling, and the PLY reader.
+#include "io/ply_reader.hpp"
+#include "io/ply_writer.hpp"
+#include "lasmesh/compare.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/ply_reader.hpp"
-#include "lasmesh/io/ply_writer.hpp"
-#include "lasmesh/measure/compare.hpp"
-#include "lasmesh/measure/mesh_distance.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
+#include "measure/mesh_distance.hpp"
+#include "mesh/marching_cubes.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -116,7 +116,7 @@ TEST_CASE("PLY reader: lasmesh's own files, other writers' files, and bad ones")
     g.count[13] = 9;
     g.red = g.green = g.blue = std::vector<std::uint64_t>(27, 0);
     g.red[13] = 9 * 200, g.green[13] = 9 * 100, g.blue[13] = 9 * 50, g.color_max_word = 255;
-    const Mesh m = extract_isosurface(g, 1);
+    const Mesh m = extract_closed_surface(g, 1);
     for (bool ascii : {false, true}) {
         write_ply(m, dir.file("m.ply"), ascii);
         const Mesh r = read_ply(dir.file("m.ply"));

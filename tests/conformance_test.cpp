@@ -2,8 +2,8 @@
 // Conformance on real LAS files from public projects (../shared/data/las), against facts measured
 // by an independent reader (MANIFEST.tsv). Skipped with a message when the corpus is absent.
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/las_reader.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/las_scan.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>

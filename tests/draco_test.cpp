@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Draco (.drc) and glTF (.glb) output: round trips through the Draco library within the
 // quantization step, exact colours, the local frame kept, deterministic bytes, refusals.
+#include "io/draco_reader.hpp"
+#include "io/draco_writer.hpp"
+#include "io/gltf_reader.hpp"
+#include "io/gltf_writer.hpp"
+#include "io/srgb.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/draco_writer.hpp"
-#include "lasmesh/io/gltf_reader.hpp"
-#include "lasmesh/io/gltf_writer.hpp"
-#include "lasmesh/io/srgb.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
+#include "mesh/marching_cubes.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -38,7 +38,7 @@ Mesh torus_mesh(bool color = true) {
                 g.count[(std::uint64_t(k) * n + j) * n + i] =
                     static_cast<std::uint64_t>(std::max(0.0, std::round(field)));
             }
-    Mesh m = extract_isosurface(g, 5);
+    Mesh m = extract_closed_surface(g, 5);
     m.normals.clear(); // the fixture is positions and colours; normals are tested in interop_test
     if (color)
         for (const auto& p : m.positions)

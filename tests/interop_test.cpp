@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Outputs other programs open (issue 13): normals in every format, the plain .glb (names,
 // double-sided material, origin in extras, 16-bit indices), Draco's scalar origin entries.
-#include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/draco_writer.hpp"
-#include "lasmesh/io/gltf_reader.hpp"
-#include "lasmesh/io/gltf_writer.hpp"
-#include "lasmesh/io/ply_reader.hpp"
-#include "lasmesh/io/ply_writer.hpp"
-#include "lasmesh/mesh/normals.hpp"
+#include "io/draco_reader.hpp"
+#include "io/draco_writer.hpp"
+#include "io/gltf_reader.hpp"
+#include "io/gltf_writer.hpp"
+#include "io/ply_reader.hpp"
+#include "io/ply_writer.hpp"
+#include "lasmesh/normals.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // The streaming reader: every version x format the generator writes, chunking, compressed input,
 // and the errors for truncated, LAZ, foreign and empty input.
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/las_point.hpp"
-#include "lasmesh/read/las_reader.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_point.hpp"
+#include "read/las_scan.hpp"
 #include "test_support.hpp"
 
 #include <boost/iostreams/copy.hpp>
@@ -331,4 +332,26 @@ TEST_CASE("scan finds the bounds and colour range of the records themselves") {
     }
     CHECK(scan.color_min == Rgb16{200 * 257, 80 * 257, 40 * 257});
     CHECK(scan.color_max == Rgb16{200 * 257, 80 * 257, 40 * 257});
+}
+
+TEST_CASE("read_points: every record's position (scale and offset applied) and stored colour, in order") {
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i < 70000; ++i) // more than one internal chunk of 65536 records
+        points.push_back({{0.01 * (i % 300), 0.02 * (i % 170), 0.5 + 0.01 * (i % 7)},
+                          {std::uint8_t(i % 251), std::uint8_t(i % 13), std::uint8_t(255 - i % 200)},
+                          1});
+    test::write_file(dir.file("p.las"), test::las_with_points(points, {0, 0, 0}, {3, 3.4, 0.6}));
+    LasReader reader(dir.file("p.las"));
+    std::vector<LasPoint> got(50000); // a buffer smaller than the file: two calls, then 0
+    std::size_t i = 0;
+    while (const std::size_t n = read_points(reader, got)) {
+        for (std::size_t k = 0; k < n; ++k, ++i) {
+            CAPTURE(i);
+            for (int a = 0; a < 3; ++a) REQUIRE(std::abs(got[k].position[a] - points[i].position[a]) < 0.005 + 1e-9);
+            for (int c = 0; c < 3; ++c) REQUIRE(got[k].color[c] == points[i].color[c]); // 8-bit values as stored
+        }
+    }
+    CHECK(i == points.size());
+    CHECK(read_points(reader, got) == 0);
 }

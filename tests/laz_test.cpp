@@ -4,11 +4,11 @@
 // always, and the larger corpus beside the checkout (../shared/data/laz, the "shared" test suite,
 // which CTest runs as unit_shared and reports Skipped without it); and robustness on truncated
 // and damaged LAZ.
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/input_stream.hpp"
-#include "lasmesh/read/las_header.hpp"
-#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_header.hpp"
 #include "sha256.hpp"
 #include "test_support.hpp"
 

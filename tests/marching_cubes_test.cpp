@@ -3,8 +3,8 @@
 // the right topology, identical for any thread count.
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
 #include "lasmesh/error.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/marching_cubes_table.hpp"
+#include "mesh/marching_cubes.hpp"
+#include "mesh/marching_cubes_table.hpp"
 
 #include <doctest/doctest.h>
 
@@ -21,7 +21,7 @@ using namespace lasmesh::cli;
 namespace {
 
 // A grid of n^3 unit cells whose counts come from `field` at the cell centres.
-DensityGrid field_grid(std::uint32_t n, const std::function<double(double, double, double)>& field) {
+CellGrid field_grid(std::uint32_t n, const std::function<double(double, double, double)>& field) {
     test::DenseCells g;
     g.spec.dims = {n, n, n};
     g.spec.cell_size = 1;
@@ -87,7 +87,7 @@ TEST_CASE("the derived case table: every corner configuration gives a closed, or
         g.spec.dims = {2, 2, 2};
         g.count.resize(8);
         for (int c = 0; c < 8; ++c) g.count[c] = (mask >> c) & 1 ? 10 : 0;
-        const Mesh m = extract_isosurface(g, 5);
+        const Mesh m = extract_closed_surface(g, 5);
         const Topology t = topology(m);
         REQUIRE(t.closed);
         REQUIRE(t.oriented);
@@ -102,9 +102,9 @@ TEST_CASE("the derived case table: every corner configuration gives a closed, or
 constexpr VertexPlacement both_placements[] = {VertexPlacement::surface, VertexPlacement::iso};
 
 TEST_CASE("a sphere: closed, genus 0, normals outward, vertices on the sphere") {
-    const DensityGrid g = field_grid(24, [](double x, double y, double z) { return sphere(x, y, z, 12, 12, 12, 8); });
+    const CellGrid g = field_grid(24, [](double x, double y, double z) { return sphere(x, y, z, 12, 12, 12, 8); });
     for (VertexPlacement placement : both_placements) {
-        const Mesh m = extract_isosurface(g, 4.5, placement);
+        const Mesh m = extract_closed_surface(g, 4.5, placement);
         check_closed_surface(m, 2);
         for (const auto& tri : m.triangles) {
             const auto &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
@@ -114,7 +114,7 @@ TEST_CASE("a sphere: closed, genus 0, normals outward, vertices on the sphere") 
             REQUIRE(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0); // from dense inside to empty outside
         }
     }
-    const Mesh m = extract_isosurface(g, 4.5, VertexPlacement::iso);
+    const Mesh m = extract_closed_surface(g, 4.5, VertexPlacement::iso);
     // Where the field is 4.5 the distance from the centre is 8 - 0.45.
     for (const auto& p : m.positions) {
         const double d = std::sqrt((p[0] - 12) * (p[0] - 12) + (p[1] - 12) * (p[1] - 12) + (p[2] - 12) * (p[2] - 12));
@@ -123,22 +123,24 @@ TEST_CASE("a sphere: closed, genus 0, normals outward, vertices on the sphere") 
 }
 
 TEST_CASE("a torus has Euler characteristic 0, a box and touching spheres close up") {
-    const DensityGrid torus = field_grid(32, [](double x, double y, double z) {
+    const CellGrid torus = field_grid(32, [](double x, double y, double z) {
         const double ring = std::sqrt((x - 16) * (x - 16) + (y - 16) * (y - 16)) - 9;
         return 10 * (4 - std::sqrt(ring * ring + (z - 16) * (z - 16)));
     });
-    for (VertexPlacement placement : both_placements) check_closed_surface(extract_isosurface(torus, 5, placement), 0);
+    for (VertexPlacement placement : both_placements)
+        check_closed_surface(extract_closed_surface(torus, 5, placement), 0);
 
-    const DensityGrid box = field_grid(16, [](double x, double y, double z) {
+    const CellGrid box = field_grid(16, [](double x, double y, double z) {
         return (x > 3 && x < 12 && y > 4 && y < 13 && z > 2 && z < 10) ? 50 : 0;
     });
-    for (VertexPlacement placement : both_placements) check_closed_surface(extract_isosurface(box, 25, placement), 2);
+    for (VertexPlacement placement : both_placements)
+        check_closed_surface(extract_closed_surface(box, 25, placement), 2);
 
     // Two spheres that just touch: one or two pieces, but always closed and oriented.
-    const DensityGrid twins = field_grid(32, [](double x, double y, double z) {
+    const CellGrid twins = field_grid(32, [](double x, double y, double z) {
         return std::max(sphere(x, y, z, 10, 16, 16, 6), sphere(x, y, z, 22, 16, 16, 6));
     });
-    const Topology t = topology(extract_isosurface(twins, 0.5));
+    const Topology t = topology(extract_closed_surface(twins, 0.5));
     CHECK(t.closed);
     CHECK(t.oriented);
     CHECK(!t.degenerate);
@@ -148,14 +150,14 @@ TEST_CASE("a torus has Euler characteristic 0, a box and touching spheres close 
 TEST_CASE("random smooth fields and integer iso ties give closed, oriented surfaces") {
     for (int seed = 1; seed <= 5; ++seed) {
         CAPTURE(seed);
-        const DensityGrid g = field_grid(20, [seed](double x, double y, double z) {
+        const CellGrid g = field_grid(20, [seed](double x, double y, double z) {
             return 6 + 5 * std::sin(0.7 * x + seed) * std::cos(0.5 * y - seed) + 4 * std::sin(0.6 * z * seed);
         });
         for (double iso : {3.0, 6.0, 7.25}) // integers tie with many counts: inside means > iso
             for (VertexPlacement placement : both_placements) {
                 CAPTURE(iso);
                 CAPTURE(static_cast<int>(placement));
-                const Topology t = topology(extract_isosurface(g, iso, placement));
+                const Topology t = topology(extract_closed_surface(g, iso, placement));
                 CHECK(t.closed);
                 CHECK(t.oriented);
                 CHECK(!t.degenerate);
@@ -164,13 +166,13 @@ TEST_CASE("random smooth fields and integer iso ties give closed, oriented surfa
 }
 
 TEST_CASE("the mesh is identical for 1, 2 and 16 threads") {
-    const DensityGrid g = field_grid(40, [](double x, double y, double z) {
+    const CellGrid g = field_grid(40, [](double x, double y, double z) {
         return 8 + 6 * std::sin(0.4 * x) * std::sin(0.3 * y) + 3 * std::cos(0.5 * z);
     });
     auto run = [&](int threads) {
         tbb::task_arena arena(threads);
         Mesh m;
-        arena.execute([&] { m = extract_isosurface(g, 8); }); // surface placement: reads beyond the edge
+        arena.execute([&] { m = extract_closed_surface(g, 8); }); // surface placement: reads beyond the edge
         return m;
     };
     const Mesh one = run(1);
@@ -199,15 +201,15 @@ TEST_CASE("surface placement puts a scanned sheet's mesh tight around it") {
             if (p[0] > 2 && p[0] < 10 && p[1] > 2 && p[1] < 10) lo = std::min(lo, p[2]), hi = std::max(hi, p[2]);
         return std::pair{lo, hi};
     };
-    const auto [iso_lo, iso_hi] = z_range(extract_isosurface(sheet(0, 40), 4, VertexPlacement::iso));
+    const auto [iso_lo, iso_hi] = z_range(extract_closed_surface(sheet(0, 40), 4, VertexPlacement::iso));
     CHECK(iso_lo == doctest::Approx(5.5 - (40 - 4.5) / 40.0));
     CHECK(iso_hi == doctest::Approx(5.5 + (40 - 4.5) / 40.0));
-    const auto [lo, hi] = z_range(extract_isosurface(sheet(0, 40), 4));
+    const auto [lo, hi] = z_range(extract_closed_surface(sheet(0, 40), 4));
     CHECK(lo == doctest::Approx(5.0));
     CHECK(hi == doctest::Approx(6.0));
     // Spread evenly over two layers (the sheet on their shared face, z = 5): each face moves in
     // towards its layer's centre, as far as a tenth of an edge from it.
-    const auto [lo2, hi2] = z_range(extract_isosurface(sheet(20, 20), 4));
+    const auto [lo2, hi2] = z_range(extract_closed_surface(sheet(20, 20), 4));
     CHECK(lo2 == doctest::Approx(4.5 - 0.1));
     CHECK(hi2 == doctest::Approx(5.5 + 0.1));
     CHECK(parse_placement("iso") == VertexPlacement::iso);
@@ -224,7 +226,7 @@ TEST_CASE("vertex colours weigh each cell's mean colour by its count") {
     g.green = {0, 0};
     g.blue = {0, 10 * 255};
     g.color_max_word = 255;
-    const Mesh m = extract_isosurface(g, 4.5, VertexPlacement::iso);
+    const Mesh m = extract_closed_surface(g, 4.5, VertexPlacement::iso);
     REQUIRE(m.colors.size() == m.positions.size());
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
         const float x = m.positions[v][0];
@@ -245,7 +247,7 @@ TEST_CASE("random inside/outside patterns: neighbouring cubes always agree") {
         g.count.resize(27);
         for (auto& c : g.count) c = next() % 2 ? 10 : 0;
         CAPTURE(trial);
-        const Topology t = topology(extract_isosurface(g, 5));
+        const Topology t = topology(extract_closed_surface(g, 5));
         REQUIRE(t.closed);
         REQUIRE(t.oriented);
     }

@@ -3,8 +3,8 @@
 // stays is the same mesh as before, in the same order.
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
 #include "lasmesh/error.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/mesh_pieces.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "mesh/marching_cubes.hpp"
 
 #include <doctest/doctest.h>
 
@@ -18,7 +18,7 @@ using namespace lasmesh::cli;
 namespace {
 
 // Balls of the given centres and radii (in cells) in a 40^3 grid of unit cells.
-DensityGrid balls_grid(const std::vector<std::array<double, 4>>& balls) {
+CellGrid balls_grid(const std::vector<std::array<double, 4>>& balls) {
     const std::uint32_t n = 40;
     test::DenseCells g;
     g.spec.dims = {n, n, n};
@@ -35,8 +35,8 @@ DensityGrid balls_grid(const std::vector<std::array<double, 4>>& balls) {
 } // namespace
 
 TEST_CASE("small isolated pieces are removed, large ones kept unchanged") {
-    const Mesh big_alone = extract_isosurface(balls_grid({{15, 15, 15, 10}}), 1);
-    Mesh both = extract_isosurface(balls_grid({{15, 15, 15, 10}, {34, 34, 34, 2}}), 1);
+    const Mesh big_alone = extract_closed_surface(balls_grid({{15, 15, 15, 10}}), 1);
+    Mesh both = extract_closed_surface(balls_grid({{15, 15, 15, 10}, {34, 34, 34, 2}}), 1);
     REQUIRE(both.triangles.size() > big_alone.triangles.size());
 
     SUBCASE("a relative threshold removes the small ball only") {

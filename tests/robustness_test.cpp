@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // Issue 19, "nothing lost, nothing silent": the library-level checks behind the command line's
 // new refusals and warnings (tests/cli/errors_test.sh covers the command line itself).
+#include "grid/auto_grid.hpp"
+#include "io/output_file.hpp"
+#include "io/ply_reader.hpp"
+#include "io/same_file.hpp"
+#include "lasmesh/compare.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/grid/grid.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/ply_reader.hpp"
-#include "lasmesh/io/same_file.hpp"
-#include "lasmesh/measure/compare.hpp"
-#include "lasmesh/number_text.hpp"
-#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/grid.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "number_text.hpp"
 #include "test_support.hpp"
 
 #include <boost/iostreams/copy.hpp>

@@ -3,12 +3,13 @@
 // multiple of the bound of the original, no face turned over, no new non-manifold edge, no face
 // without area, winding and the colours of kept vertices unchanged, the same bytes for any number
 // of threads, locked borders where they were.
-#include "lasmesh/measure/mesh_distance.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/mesh_pieces.hpp"
-#include "lasmesh/mesh/normals.hpp"
-#include "lasmesh/mesh/simplify.hpp"
-#include "lasmesh/mesh/surface_sheet.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "lasmesh/normals.hpp"
+#include "lasmesh/simplify.hpp"
+#include "measure/mesh_distance.hpp"
+#include "mesh/marching_cubes.hpp"
+#include "mesh/simplify_check.hpp"
+#include "mesh/surface_sheet.hpp"
 
 #include <doctest/doctest.h>
 
@@ -61,7 +62,7 @@ Mesh marched_sphere() {
                 g.count[(std::uint64_t(k) * n + j) * n + i] =
                     static_cast<std::uint64_t>(std::max(0.0, std::round(100 * (2 - r) + 50)));
             }
-    Mesh m = extract_isosurface(g, 50, VertexPlacement::iso);
+    Mesh m = extract_closed_surface(g, 50, VertexPlacement::iso);
     for (std::size_t i = 0; i < m.positions.size(); ++i)
         m.colors.push_back({std::uint8_t(i * 7 % 256), std::uint8_t(i * 13 % 256), std::uint8_t(i * 29 % 256)});
     compute_vertex_normals(m);
@@ -79,7 +80,7 @@ const Mesh& deck_sheet() {
                          test::make_las(lasgen::LasLayout{}, lasgen::make_scene(options), 200000, 11));
         AccumulateOptions grid;
         grid.grid = GridRequest::longest(128);
-        const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
+        const CellGrid g = test::accumulate_file(dir.file("d.las"), grid);
         Mesh m = extract_sheet(g, automatic_iso(g));
         remove_small_pieces(m, {});
         return m;

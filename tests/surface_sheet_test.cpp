@@ -2,8 +2,8 @@
 // One sheet per scanned surface: placed on the points (below the cell), one sheet for a thin
 // plate scanned from both sides, closed and consistently oriented where the surface is closed,
 // and the same mesh for any number of threads.
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/surface_sheet.hpp"
+#include "mesh/marching_cubes.hpp"
+#include "mesh/surface_sheet.hpp"
 
 #include <doctest/doctest.h>
 
@@ -67,10 +67,10 @@ TEST_CASE("a sphere's scan gives one closed, oriented sheet on the points, half 
     test::write_file(dir.file("s.las"), test::make_las(lasgen::LasLayout{}, sphere, 300000, 7));
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(48);
-    const DensityGrid g = test::accumulate_file(dir.file("s.las"), grid);
+    const CellGrid g = test::accumulate_file(dir.file("s.las"), grid);
     const double iso = automatic_iso(g);
     const Mesh sheet = extract_sheet(g, iso);
-    const Mesh closed = extract_isosurface(g, iso);
+    const Mesh closed = extract_closed_surface(g, iso);
     REQUIRE(!sheet.triangles.empty());
     REQUIRE(sheet.normals.size() == sheet.positions.size());
     REQUIRE(sheet.colors.size() == sheet.positions.size());
@@ -141,7 +141,7 @@ TEST_CASE("a thin plate scanned from both sides is one sheet between its faces")
     test::write_file(dir.file("plate.las"), test::las_with_points(points, {0, 0, 0}, {10, 10, 1}));
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(20);
-    const DensityGrid g = test::accumulate_file(dir.file("plate.las"), grid);
+    const CellGrid g = test::accumulate_file(dir.file("plate.las"), grid);
     const Mesh sheet = extract_sheet(g, automatic_iso(g));
     REQUIRE(!sheet.triangles.empty());
     double area = 0;
@@ -170,7 +170,7 @@ TEST_CASE("the sheet is the same for any number of threads") {
     test::write_file(dir.file("d.las"), test::make_las(lasgen::LasLayout{}, deck, 200000, 11));
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(128);
-    const DensityGrid g = test::accumulate_file(dir.file("d.las"), grid);
+    const CellGrid g = test::accumulate_file(dir.file("d.las"), grid);
     auto extract = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         return extract_sheet(g, automatic_iso(g));
@@ -238,7 +238,7 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
         CAPTURE(cells);
         AccumulateOptions grid;
         grid.grid = GridRequest::longest(static_cast<std::uint32_t>(std::stoi(cells)));
-        const DensityGrid g = test::accumulate_file(dir.file("boxes.las"), grid);
+        const CellGrid g = test::accumulate_file(dir.file("boxes.las"), grid);
         const Mesh sheet = extract_sheet(g, automatic_iso(g));
         REQUIRE(sheet.normals.size() == sheet.positions.size());
         std::size_t walls = 0, wrong_walls = 0, roofs = 0, wrong_roofs = 0, deck = 0, wrong_deck = 0;
@@ -290,7 +290,7 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
                      test::las_with_points(points, {1.4, 1.4, 0.4}, {6.6, 6.6, 1.6}, 8, 3, 0.001));
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(96);
-    const DensityGrid g = test::accumulate_file(dir.file("torus.las"), grid);
+    const CellGrid g = test::accumulate_file(dir.file("torus.las"), grid);
     const Mesh sheet = extract_sheet(g, automatic_iso(g));
     REQUIRE(sheet.normals.size() == sheet.positions.size());
     REQUIRE(sheet.positions.size() > 1000);

@@ -77,7 +77,7 @@ std::filesystem::path shared_las_folder() {
 
 namespace test {
 
-DenseGrid dense(const lasmesh::DensityGrid& grid) {
+DenseGrid dense(const lasmesh::CellGrid& grid) {
     DenseGrid d;
     d.grid = &grid;
     const std::uint64_t cells = grid.spec.cell_count();
@@ -105,11 +105,11 @@ lasmesh::Rgb8 DenseGrid::mean_color(std::uint64_t cell) const {
     return grid->mean_color(sums);
 }
 
-lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
-                                      const std::vector<std::uint64_t>& red, const std::vector<std::uint64_t>& green,
-                                      const std::vector<std::uint64_t>& blue, std::uint32_t color_max_word) {
-    using lasmesh::DensityGrid;
-    DensityGrid g;
+lasmesh::CellGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
+                                   const std::vector<std::uint64_t>& red, const std::vector<std::uint64_t>& green,
+                                   const std::vector<std::uint64_t>& blue, std::uint32_t color_max_word) {
+    using lasmesh::CellGrid;
+    CellGrid g;
     g.spec = spec;
     g.color = !red.empty();
     g.color_max_word = color_max_word;
@@ -118,13 +118,12 @@ lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::
         g.scale[a] = spec.cell_size / 1000;
         g.offset[a] = spec.origin[a];
         g.axes[a] = lasmesh::axis_cells(spec, a, g.scale[a], g.offset[a]);
-        g.bricks[a] =
-            static_cast<std::uint32_t>((spec.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
+        g.bricks[a] = static_cast<std::uint32_t>((spec.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
     }
     // Brick by brick in ascending order, each brick's occupied cells in the order of their bits.
     for (std::uint64_t key = 0; key < std::uint64_t{g.bricks[0]} * g.bricks[1] * g.bricks[2]; ++key) {
-        std::array<lasmesh::CellSums, DensityGrid::brick_cells> brick{};
-        for (unsigned bit = 0; bit < DensityGrid::brick_cells; ++bit) {
+        std::array<lasmesh::CellSums, CellGrid::brick_cells> brick{};
+        for (unsigned bit = 0; bit < CellGrid::brick_cells; ++bit) {
             const auto c = g.cell_in_brick(key, bit);
             if (c[0] >= std::int64_t{spec.dims[0]} || c[1] >= std::int64_t{spec.dims[1]} ||
                 c[2] >= std::int64_t{spec.dims[2]})
@@ -171,9 +170,9 @@ Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const l
     return file;
 }
 
-lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options) {
+lasmesh::CellGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options) {
     lasmesh::LasReader reader(path);
-    return lasmesh::accumulate_density(reader, device(), options);
+    return lasmesh::accumulate_cells(reader, device(), options);
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {

@@ -47,31 +47,31 @@ std::filesystem::path shared_las_folder();
 
 // The sparse grid as dense per-cell arrays (cell index as in GridSpec: x fastest), so tests can
 // compare whole grids and address cells by index.
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/cell_sums.hpp"
 
 namespace test {
 
 struct DenseGrid {
-    const lasmesh::DensityGrid* grid = nullptr; // the grid it was made from: keep it alive
+    const lasmesh::CellGrid* grid = nullptr; // the grid it was made from: keep it alive
     std::vector<std::uint64_t> count, red, green, blue;
     lasmesh::Rgb8 mean_color(std::uint64_t cell) const;
 };
-DenseGrid dense(const lasmesh::DensityGrid& grid);
+DenseGrid dense(const lasmesh::CellGrid& grid);
 
 // A sparse grid holding the given per-cell counts (and colour sums when `red` is not empty),
 // every cell's points at its centre; for extraction tests that need no device.
-lasmesh::DensityGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
-                                      const std::vector<std::uint64_t>& red = {},
-                                      const std::vector<std::uint64_t>& green = {},
-                                      const std::vector<std::uint64_t>& blue = {}, std::uint32_t color_max_word = 255);
+lasmesh::CellGrid grid_from_counts(const lasmesh::GridSpec& spec, const std::vector<std::uint64_t>& count,
+                                   const std::vector<std::uint64_t>& red = {},
+                                   const std::vector<std::uint64_t>& green = {},
+                                   const std::vector<std::uint64_t>& blue = {}, std::uint32_t color_max_word = 255);
 
 // Per-cell counts and colour sums written as dense arrays (x fastest), turned into the sparse
-// grid where a DensityGrid is expected.
+// grid where a CellGrid is expected.
 struct DenseCells {
     lasmesh::GridSpec spec;
     std::vector<std::uint64_t> count, red, green, blue;
     std::uint32_t color_max_word = 255;
-    operator lasmesh::DensityGrid() const { return grid_from_counts(spec, count, red, green, blue, color_max_word); }
+    operator lasmesh::CellGrid() const { return grid_from_counts(spec, count, red, green, blue, color_max_word); }
 };
 
 // One OpenCL device (the default) for the whole test run.
@@ -82,7 +82,7 @@ Bytes las_with_points(const std::vector<lasgen::GeneratedPoint>& points, const l
                       const lasmesh::Vec3& max, int color_bits = 8, int format = 3, double scale = 0.01);
 
 // Every record of the LAS file at `path` accumulated on device().
-lasmesh::DensityGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options = {});
+lasmesh::CellGrid accumulate_file(const std::string& path, lasmesh::AccumulateOptions options = {});
 
 // A manifest of measured facts (../shared/data/*/MANIFEST.tsv): one row per file, by column name.
 using Row = std::map<std::string, std::string>;

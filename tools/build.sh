@@ -54,7 +54,8 @@ fi
 build_type=${LASMESH_BUILD_TYPE:-Release}
 # A unity build (CMake compiles the sources in batches, each header parsed once a batch): a fresh
 # build took 1m23s instead of 2m36s on 2 cores, with the same output bytes (docs/benchmarks.md).
-if [ ! -f build/CMakeCache.txt ]; then
+# A configure that failed half-way leaves a cache but no Makefile: configure again then.
+if [ ! -f build/Makefile ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" -DCMAKE_UNITY_BUILD=ON >/dev/null
 fi
 cmake --build build --parallel "$(nproc)" ${targets[@]:+--target "${targets[@]}"} -- --no-print-directory

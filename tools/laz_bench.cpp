@@ -3,7 +3,7 @@
 // THREADS TBB threads and prints points per second. Small corpus files are repeated to get a
 // measurable run; chunks are decoded in parallel within each pass.
 // Usage: laz_bench FILE THREADS REPEAT
-#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/las_reader.hpp"
 
 #include <tbb/global_control.h>
 

@@ -6,11 +6,12 @@
 //
 // Usage: simplify_bench MESH.ply ERROR_IN_CELLS [--threads N] [--runs N] [--lock-border] [--time-only] [-o OUT.ply]
 // (--time-only: triangles and seconds, no checks; --runs N: the best of N runs' times)
-#include "lasmesh/io/ply_reader.hpp"
-#include "lasmesh/io/ply_writer.hpp"
-#include "lasmesh/measure/mesh_distance.hpp"
-#include "lasmesh/mesh/normals.hpp"
-#include "lasmesh/mesh/simplify.hpp"
+#include "io/ply_reader.hpp"
+#include "io/ply_writer.hpp"
+#include "lasmesh/normals.hpp"
+#include "lasmesh/simplify.hpp"
+#include "measure/mesh_distance.hpp"
+#include "mesh/simplify_check.hpp"
 
 #include <tbb/global_control.h>
 

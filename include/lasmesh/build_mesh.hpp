@@ -28,14 +28,12 @@
 #pragma once
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/grid/grid.hpp"
-#include "lasmesh/io/draco_writer.hpp"
-#include "lasmesh/io/gltf_writer.hpp"
+#include "lasmesh/grid.hpp"
 #include "lasmesh/mesh.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/mesh_pieces.hpp"
-#include "lasmesh/mesh/simplify.hpp"
-#include "lasmesh/mesh/surface_sheet.hpp"
+#include "lasmesh/mesh_files.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "lasmesh/simplify.hpp"
+#include "lasmesh/surface.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -44,23 +42,6 @@
 #include <vector>
 
 namespace lasmesh {
-
-enum class MeshFormat {
-    ply,   // PLY, binary little-endian unless `ascii`
-    draco, // .drc: Draco-compressed mesh
-    glb,   // glTF 2.0 binary, plain or Draco-compressed (see io/gltf_writer.hpp)
-};
-
-// One file to write. Its folder is checked before anything is read, so nobody waits to learn
-// that it cannot be written; the file appears complete or not at all (see io/output_file.hpp).
-struct OutputRequest {
-    std::string path;
-    std::optional<MeshFormat> format;                        // default: from the extension (.ply, .drc, .glb)
-    bool ascii = false;                                      // ply only
-    DracoOptions draco;                                      // draco, and glb with GltfCompression::draco
-    GltfCompression glb_compression = GltfCompression::none; // glb only: plain opens everywhere
-    GltfOrigin glb_origin = GltfOrigin::extras;              // glb only: translation node or not
-};
 
 // How far simplification may move the surface: a length in the file's units, or in cells.
 struct SimplifyRequest {
@@ -76,7 +57,8 @@ struct BuildOptions {
     GridRequest grid;             // default: chosen from the data; or GridRequest::longest(N), cells(...), cell_edge(E)
     std::optional<Bounds> bounds; // the region to grid; default: the header bounds
     bool scan_bounds = false;     // read a file twice, first for its points' real bounds
-    std::optional<double> iso;    // points per cell at the surface; default: automatic_iso
+    std::optional<double>
+        iso; // points per cell at the surface; default: a tenth of the occupied cells' median count, at least 1
     SurfaceKind surface = SurfaceKind::sheet;
     VertexPlacement placement = VertexPlacement::surface; // closed surfaces only
     MinPiece min_piece;                                   // default: 5% of the mesh diagonal
@@ -145,7 +127,7 @@ struct BuildObserver {
     virtual void detail(const std::string& /*line*/) {}
 };
 
-// Reads `input` (a LAS path, or "-" for standard input), builds the density grid, extracts the
+// Reads `input` (a LAS path, or "-" for standard input), sums its points into a grid of cells, extracts the
 // surface, removes small pieces, simplifies, computes normals and writes every output (a .glb's
 // scene, node, mesh and material are named after the input's file name without extension).
 // Throws Error: usage for options that cannot work (no outputs, an output path that is the input
@@ -153,9 +135,6 @@ struct BuildObserver {
 // does not fit), input for an input that gives no mesh (nothing written then), device or output
 // otherwise. Every check on the options is made before the input is opened.
 BuildResult build_mesh(const std::string& input, const BuildOptions& options, BuildObserver* observer = nullptr);
-
-// The format an output path's extension names (.ply, .drc, .glb, any case), or nullopt.
-std::optional<MeshFormat> format_from_extension(const std::string& path);
 
 // The report as one line of JSON (full precision), the fields in the order of the RunReport.
 std::string run_report_json(const RunReport& report);

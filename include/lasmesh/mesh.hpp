@@ -2,13 +2,14 @@
 // An indexed triangle mesh with optional per-vertex colour and normals, positions in a local frame.
 #pragma once
 
-#include "lasmesh/read/las_header.hpp"
-
 #include <array>
 #include <cstdint>
 #include <vector>
 
 namespace lasmesh {
+
+// A position in the input's coordinates (x, y, z in its units).
+using Vec3 = std::array<double, 3>;
 
 struct Mesh {
     // World coordinates of the local frame's origin. float32 positions cannot hold a centimetre

@@ -5,15 +5,15 @@
 #include "progress.hpp"
 
 #include "io/json.hpp"
+#include "io/output_file.hpp"
+#include "io/ply_reader.hpp"
+#include "io/ply_writer.hpp"
+#include "io/same_file.hpp"
+#include "lasmesh/compare.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/gltf_reader.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/ply_reader.hpp"
-#include "lasmesh/io/ply_writer.hpp"
-#include "lasmesh/io/same_file.hpp"
-#include "lasmesh/measure/compare.hpp"
-#include "lasmesh/number_text.hpp"
+#include "lasmesh/mesh_files.hpp"
+#include "number_text.hpp"
+#include "read/input_stream.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -21,15 +21,6 @@
 namespace lasmesh::cli {
 
 namespace {
-
-Mesh read_mesh(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".ply") return read_ply(path);
-    if (ext == ".drc") return read_draco(path);
-    if (ext == ".glb") return read_glb(path);
-    throw Error(ErrorKind::usage, "\"" + path + "\": unknown mesh extension, expected .ply, .drc or .glb");
-}
 
 Json stats_json(const DistanceStats& s) {
     Json json = {{"mean", s.mean}, {"std", s.std}, {"median", s.median},

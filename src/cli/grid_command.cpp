@@ -3,7 +3,8 @@
 #include "grid_command.hpp"
 
 #include "io/json.hpp"
-#include "lasmesh/number_text.hpp"
+#include "number_text.hpp"
+#include "read/input_stream.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -24,7 +25,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
     if (!accumulate.bounds) check_header_bounds_usable(reader.header(), reader.stream().name());
     ComputeDevice device(options.grid.device);
     const auto start = std::chrono::steady_clock::now();
-    DensityGrid grid = accumulate_density(reader, device, accumulate);
+    CellGrid grid = accumulate_cells(reader, device, accumulate);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     const std::uint64_t occupied = grid.occupied_cells(), fullest = grid.fullest_cell();
@@ -42,7 +43,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         json["occupied_cells"] = occupied;
         json["max_points_per_cell"] = fullest;
         json["occupied_bricks"] = grid.brick_keys.size();
-        json["brick_cells"] = DensityGrid::brick_cells;
+        json["brick_cells"] = CellGrid::brick_cells;
         json["pool_bytes"] = pool_bytes;
         json["host_grid_bytes"] = grid.host_bytes();
         json["color"] = depth;
@@ -60,7 +61,7 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         << "points outside grid  " << grid.points_outside << " (" << std::fixed << std::setprecision(3)
         << 100 * outside_share << "%)\n"
         << "occupied cells       " << occupied << " of " << grid.spec.cell_count() << "\n"
-        << "occupied bricks      " << grid.brick_keys.size() << " of " << DensityGrid::brick_cells
+        << "occupied bricks      " << grid.brick_keys.size() << " of " << CellGrid::brick_cells
         << " cells: " << std::setprecision(1) << pool_bytes / 1e6 << " MB of grid on the device, "
         << grid.host_bytes() / 1e6 << " MB on the host (occupied cells only)\n"
         << "most points in cell  " << fullest << "\n"

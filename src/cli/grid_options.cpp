@@ -5,7 +5,7 @@
 #include "option_parsing.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "read/las_scan.hpp"
 
 #include <filesystem>
 

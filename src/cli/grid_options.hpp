@@ -2,7 +2,7 @@
 // The grid and device options shared by every command that accumulates a grid, declared once.
 #pragma once
 
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/cell_sums.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -24,7 +24,7 @@ struct GridOptions {
 void add_grid_options(CLI::App& command, GridOptions& options);
 
 // Checks and converts the options; throws Error (usage) quoting a bad value. --grid auto is the
-// default GridRequest, which accumulate_density resolves from the data.
+// default GridRequest, which accumulate_cells resolves from the data.
 AccumulateOptions accumulate_options(const GridOptions& options);
 
 // --scan-bounds: the bounds of the points of `input` found by reading it once (scan_points), for

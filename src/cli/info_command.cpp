@@ -3,8 +3,9 @@
 #include "info_command.hpp"
 
 #include "io/json.hpp"
-#include "lasmesh/read/las_reader.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_scan.hpp"
 
 #include <algorithm>
 #include <cmath>

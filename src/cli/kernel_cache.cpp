@@ -8,7 +8,7 @@
 // temporary folder for the run.
 #include "kernel_cache.hpp"
 
-#include "lasmesh/number_text.hpp"
+#include "number_text.hpp"
 
 #include <cstdlib>
 #include <filesystem>

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
 
     lasmesh::cli::GridCommandOptions grid;
     CLI::App* grid_command =
-        app.add_subcommand("grid", "Accumulate the density grid on the OpenCL device and report on it");
+        app.add_subcommand("grid", "Sum the points into grid cells on the OpenCL device and report on it");
     grid_command->footer("Examples:\n  lasmesh grid deck.las --grid 512\n  lasmesh grid deck.las --voxel 0.05 --json");
     grid_command
         ->add_option("INPUT", grid.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
                                  "cannot write to standard output (closed pipe or full disk?)");
         return 0;
     } catch (const lasmesh::Error& e) {
-        std::cerr << "lasmesh: " << e.what() << lasmesh::cli::flag_hint(e.option(), e.what()) << '\n';
+        std::cerr << "lasmesh: " << e.what() << lasmesh::cli::flag_hint(e) << '\n';
         return e.exit_code();
     } catch (const std::bad_alloc&) {
         std::cerr << "lasmesh: out of memory: the system refused more (a smaller --grid needs less; with --max-memory "

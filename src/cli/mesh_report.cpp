@@ -2,9 +2,10 @@
 // The summary and the --report JSON: same fields, same order, one for people, one for programs.
 #include "mesh_report.hpp"
 
+#include "io/draco_writer.hpp"
 #include "io/json.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/number_text.hpp"
+#include "io/output_file.hpp"
+#include "number_text.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -36,7 +37,7 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
                                                       : "closed, vertices on the surface")
             << "\n"
             << "occupied       " << r.occupied_cells << " cells in " << r.occupied_bricks << " bricks of "
-            << DensityGrid::brick_cells << ", " << megabytes(r.pool_bytes) << " of grid on the device, "
+            << CellGrid::brick_cells << ", " << megabytes(r.pool_bytes) << " of grid on the device, "
             << megabytes(r.host_grid_bytes) << " on the host\n"
             << "origin         " << format_double(r.origin[0]) << " " << format_double(r.origin[1]) << " "
             << format_double(r.origin[2]) << " (output positions are relative to it)\n"

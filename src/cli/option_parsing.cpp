@@ -3,12 +3,14 @@
 #include "option_parsing.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/number_text.hpp"
+#include "number_text.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace lasmesh::cli {
@@ -149,7 +151,7 @@ CLI::Validator positive_number() {
         "POSITIVE");
 }
 
-std::string flag_hint(const std::string& option, const std::string& message) {
+std::string flag_hint(const Error& error) {
     static const std::map<std::string, std::string> flags{
         {"outputs", "-o"},
         {"report", "--report"},
@@ -163,10 +165,18 @@ std::string flag_hint(const std::string& option, const std::string& message) {
         {"bounds", "--bounds"},
         {"surface", "--surface"},
         {"max_memory", "--max-memory"},
+        {"device", "--device"},
     };
-    const auto flag = flags.find(option);
-    if (flag == flags.end() || message.find(flag->second + " ") != std::string::npos) return {};
-    return " (" + flag->second + ")";
+    std::vector<std::string> named;
+    std::stringstream options(error.option());
+    for (std::string option; std::getline(options, option, ',');)
+        if (const auto flag = flags.find(option); flag != flags.end()) named.push_back(flag->second);
+    if (named.empty()) return {};
+    std::string hint = " (";
+    for (std::size_t i = 0; i < named.size(); ++i) hint += (i ? " or " : "") + named[i];
+    if (!error.suggestion().empty()) hint += " " + error.suggestion();
+    if (error.option() == "device") hint += "; `lasmesh devices` lists them";
+    return hint + ")";
 }
 
 CLI::Validator whole_number(std::uint64_t lowest, std::uint64_t highest) {

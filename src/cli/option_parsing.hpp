@@ -5,9 +5,9 @@
 #pragma once
 
 #include "lasmesh/build_mesh.hpp"
-#include "lasmesh/grid/grid.hpp"
-#include "lasmesh/mesh/marching_cubes.hpp"
-#include "lasmesh/mesh/mesh_pieces.hpp"
+#include "lasmesh/grid.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "lasmesh/surface.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -39,9 +39,9 @@ GltfOrigin parse_glb_origin(const std::string& text);
 // range 2.2250738585072014e-308 to 1.7976931348623157e+308"; this says what is wanted.
 CLI::Validator positive_number();
 
-// " (--scan-bounds)": the flag that sets the library option an error names (Error::option), to
-// append to `message`; empty when the error names none or the message names the flag already.
-std::string flag_hint(const std::string& option, const std::string& message);
+// " (--grid 512)", " (--scan-bounds or --bounds)": the flags that set the library options an
+// error names (Error::option, Error::suggestion), to append to its message; empty when it names none.
+std::string flag_hint(const Error& error);
 
 // Validators whose messages say what was expected and what was given, in the words of our own
 // errors ("expected a whole number from 1 to 1024, got \"abc\"").

@@ -8,7 +8,7 @@
 // of them; it stays pending until the waiting thread takes it with sigwait(), in ordinary code.
 #include "signals.hpp"
 
-#include "lasmesh/io/output_file.hpp"
+#include "io/output_file.hpp"
 
 #include <csignal>
 #include <cstdio>

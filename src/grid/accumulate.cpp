@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// accumulate_density: streams raw records to the device in double-buffered slices and runs
+// accumulate_cells: streams raw records to the device in double-buffered slices and runs
 // kernels/accumulate.cl over each; the host reads records straight into the device's slice
 // buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool
 // of bricks when a slice's new bricks would not fit, and reads the pool back in brick order.
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/auto_grid.hpp"
+#include "grid/cell_sums.hpp"
+#include "read/input_stream.hpp"
 
 #include "brick_pool.hpp"
 #include "host_memory.hpp"
@@ -60,13 +61,13 @@ struct Carry {
 } // namespace
 
 // Accumulates into the grid `options` names exactly (a chosen request, or a given spec).
-static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+static CellGrid accumulate_into(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     const LasHeader& header = reader.header();
     ComputeDevice::Impl& dev = device.impl();
     const std::size_t length = header.point_record_length;
     const bool color = has_color(header);
 
-    DensityGrid out;
+    CellGrid out;
     out.spec = grid_for(header, options);
     out.color = color;
     out.scale = header.scale;
@@ -110,7 +111,7 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         cl::Context& ctx = dev.context;
         cl::CommandQueue& queue = dev.queue;
         std::string defines =
-            "-D BRICK_BITS=" + std::to_string(DensityGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
+            "-D BRICK_BITS=" + std::to_string(CellGrid::brick_bits) + " -D RUN=" + std::to_string(run_length) +
             " -D FIRST_BITS=" + std::to_string(layout.first_bits) + " -D DOUBLINGS=" + std::to_string(layout.doublings);
         // PoCL compiles kernels with clang, whose prefetch builtin is a real one (OpenCL's is not).
         if (host_device && dev.info.platform.find("Portable Computing Language") != std::string::npos)
@@ -119,9 +120,9 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
             throw Error(ErrorKind::device,
-                        dev.info.name +
-                            " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
-                            "accumulating the grid needs: choose another device (lasmesh devices; --device)");
+                        dev.info.name + " has no 64-bit atomics (cl_khr_int64_base_atomics), which "
+                                        "accumulating the grid needs: choose another device",
+                        "device");
         cl::Program program = build_program(dev, "accumulate.cl", kernels::accumulate, defines);
         cl::Kernel add(program, "accumulate"), mark(program, "mark_bricks"), assign(program, "assign_bricks"),
             add_listed(program, "accumulate_listed");
@@ -230,7 +231,7 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
                 // back. A device's pool is read back into the host's copy once more.
                 const std::uint64_t device_pool = host_device ? (used + fresh) * brick_bytes : capacity * brick_bytes;
                 const std::uint64_t host_copy =
-                    host_device ? 0 : (used + fresh) * DensityGrid::brick_cells * sizeof(CellSums);
+                    host_device ? 0 : (used + fresh) * CellGrid::brick_cells * sizeof(CellSums);
                 const MemoryNeed need{fixed.device_bytes - first_chunk_bytes(out.spec) + device_pool,
                                       fixed.host_bytes + host_copy, layout.chunk_bricks(c) * brick_bytes};
                 std::string problem = c == PoolLayout::max_chunks
@@ -357,7 +358,7 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         out.index_bricks();
         // Read the pool back chunk by chunk in slot order, releasing each chunk once read, so the
         // device's copy shrinks while the host's grows. The host keeps only the cells that hold a
-        // point, each brick's where the slot order puts it (DensityGrid says how to find them).
+        // point, each brick's where the slot order puts it (CellGrid says how to find them).
         for (int c = 0; c < chunk_args; ++c) {
             add.setArg(pool_arg_add + c, cl::Buffer());
             add_listed.setArg(pool_arg_listed + c, cl::Buffer());
@@ -365,12 +366,12 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
         out.brick_masks.resize(used);
         out.brick_first.resize(used);
         // Room for every cell of every brick, in address space only: pages are taken as written.
-        out.cells.reserve(used * DensityGrid::brick_cells);
+        out.cells.reserve(used * CellGrid::brick_cells);
         advise_large_pages(out.cells.data(), out.cells.capacity() * sizeof(CellSums));
         const std::uint64_t words = cell_words(color);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes);
         auto carry = carries.begin();
-        std::array<CellSums, DensityGrid::brick_cells> brick{};
+        std::array<CellSums, CellGrid::brick_cells> brick{};
         for (unsigned c = 0; c < chunks.size(); ++c) {
             const std::uint64_t start = layout.chunk_start(c);
             const std::uint64_t in_chunk = used > start ? std::min(layout.chunk_bricks(c), used - start) : 0;
@@ -382,15 +383,14 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
                     queue.enqueueMapBuffer(chunks[c], CL_TRUE, CL_MAP_READ, first * brick_bytes, n * brick_bytes));
                 for (std::uint64_t i = 0; i < n; ++i) {
                     const std::uint64_t slot = start + first + i;
-                    const cl_uint* src = block + i * DensityGrid::brick_cells * words;
+                    const cl_uint* src = block + i * CellGrid::brick_cells * words;
                     for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
                         brick[k].count = src[0];
                         brick[k].position = {src[1], src[2], src[3]};
                         if (color) brick[k].color = {src[4], src[5], src[6]};
                     }
-                    const std::uint64_t first_key = slot * DensityGrid::brick_cells * words;
-                    for (; carry != carries.end() && carry->key < first_key + DensityGrid::brick_cells * words;
-                         ++carry) {
+                    const std::uint64_t first_key = slot * CellGrid::brick_cells * words;
+                    for (; carry != carries.end() && carry->key < first_key + CellGrid::brick_cells * words; ++carry) {
                         CellSums& cell = brick[(carry->key - first_key) / words];
                         const std::uint64_t word = (carry->key - first_key) % words;
                         if (word > 6) // the unused eighth word is never added to
@@ -418,7 +418,7 @@ static DensityGrid accumulate_into(LasReader& reader, ComputeDevice& device, con
     return out;
 }
 
-DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     const GridRequest& request = options.grid;
     if (options.spec || request.kind != GridRequest::Kind::automatic) return accumulate_into(reader, device, options);
     if (request.dims != std::array<std::uint32_t, 3>{0, 0, 0} || request.voxel != 0)
@@ -430,7 +430,7 @@ DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const A
                                           reader.stream().name());
     AccumulateOptions chosen = options;
     chosen.grid = choice.request;
-    DensityGrid grid = accumulate_into(reader, device, chosen);
+    CellGrid grid = accumulate_into(reader, device, chosen);
     const std::string coarsened = coarsen_while_sparse(grid);
     grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
     return grid;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // choose_grid: points per unit of surface area, then the cell edge h that puts
 // auto_grid_points_per_cell points into a surface cell: N h^2 / A = k, h = sqrt(k A / N).
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/number_text.hpp"
+#include "grid/auto_grid.hpp"
+#include "number_text.hpp"
 
 #include "lasmesh/error.hpp"
 
@@ -16,9 +16,11 @@ namespace lasmesh {
 
 GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const std::string& input_name) {
     if (point_count < auto_grid_min_points)
-        throw_input_error(input_name, "has " + std::to_string(point_count) + " points, too few to outline a surface (" +
-                                          std::to_string(auto_grid_min_points) +
-                                          " at least for --grid auto); give a coarse grid yourself, e.g. --grid 8");
+        throw_input_error(input_name,
+                          "has " + std::to_string(point_count) + " points, too few to outline a surface (" +
+                              std::to_string(auto_grid_min_points) +
+                              " at least for a grid chosen from the data); give a coarse grid yourself, e.g. 8 cells",
+                          "grid");
     std::array<double, 3> e{};
     for (int a = 0; a < 3; ++a) e[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
     std::sort(e.begin(), e.end(), std::greater<>());
@@ -36,7 +38,7 @@ GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const st
     choice.reason = significant(point_count / area, 3) + " points per unit of area over about " + significant(area, 3) +
                     " square units: " + std::to_string(cells) + " cells" +
                     (wanted < auto_grid_min_cells   ? " (the fewest allowed)"
-                     : wanted > auto_grid_max_cells ? " (the most allowed; give --grid for more)"
+                     : wanted > auto_grid_max_cells ? " (the most chosen from the data; ask for more cells if need be)"
                                                     : "");
     return choice;
 }

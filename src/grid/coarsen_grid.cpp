@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// coarsen_grid and coarsen_while_sparse: --grid auto's second look, at the accumulated counts.
+// coarsen_grid and coarsen_while_sparse: the automatic grid's second look, at the accumulated counts.
 // Merging 2 x 2 x 2 cells keeps every sum exact (counts and colours add; position sums move to
 // the larger cell's start), so a coarsened grid is the grid that accumulating at twice the cell
 // would give, without reading the input again.
-#include "lasmesh/grid/auto_grid.hpp"
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/auto_grid.hpp"
+#include "grid/cell_sums.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -12,9 +12,9 @@
 
 namespace lasmesh {
 
-DensityGrid coarsen_grid(const DensityGrid& fine) {
-    constexpr std::int64_t size = DensityGrid::brick_size;
-    DensityGrid coarse;
+CellGrid coarsen_grid(const CellGrid& fine) {
+    constexpr std::int64_t size = CellGrid::brick_size;
+    CellGrid coarse;
     coarse.spec = fine.spec;
     coarse.spec.cell_size = 2 * fine.spec.cell_size;
     for (int a = 0; a < 3; ++a) {
@@ -44,7 +44,7 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
     for (std::size_t b = 0; b < fine.brick_keys.size(); ++b)
         fine_of_coarse.emplace_back(coarse_key(fine.brick_keys[b]), b);
     std::sort(fine_of_coarse.begin(), fine_of_coarse.end());
-    std::array<CellSums, DensityGrid::brick_cells> sums{};
+    std::array<CellSums, CellGrid::brick_cells> sums{};
     for (std::size_t i = 0; i < fine_of_coarse.size();) {
         const std::uint64_t key = fine_of_coarse[i].first;
         sums.fill(CellSums{});
@@ -75,7 +75,7 @@ DensityGrid coarsen_grid(const DensityGrid& fine) {
     return coarse;
 }
 
-std::string coarsen_while_sparse(DensityGrid& grid) {
+std::string coarsen_while_sparse(CellGrid& grid) {
     int merged = 0;
     std::uint64_t median = grid.median_count();
     while (median > 0 && median < auto_grid_min_median &&

@@ -105,8 +105,8 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
         if (std::from_chars(selector.data(), selector.data() + selector.size(), index).ec != std::errc())
             index = SIZE_MAX;
         if (index >= devices.size())
-            throw Error(ErrorKind::usage, "--device " + selector + ": there are " + std::to_string(devices.size()) +
-                                              " devices (see `lasmesh devices`)");
+            throw Error(ErrorKind::usage,
+                        "device " + selector + ": there are " + std::to_string(devices.size()) + " devices", "device");
         chosen = &devices[index];
     } else {
         for (const auto& d : devices)
@@ -114,9 +114,7 @@ ComputeDevice::ComputeDevice(const std::string& selector) : impl_(std::make_uniq
                 chosen = &d;
                 break;
             }
-        if (!chosen)
-            throw Error(ErrorKind::usage,
-                        "--device \"" + selector + "\": no device name contains it (see `lasmesh devices`)");
+        if (!chosen) throw Error(ErrorKind::usage, "device \"" + selector + "\": no device name contains it", "device");
     }
     impl_->info = chosen->first;
     impl_->device = chosen->second;

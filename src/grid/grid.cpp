@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Grid geometry: from bounds and a request to cubic cells, and from cells to raw-integer ranges.
-#include "lasmesh/grid/grid.hpp"
+#include "lasmesh/grid.hpp"
+#include "grid/axis_cells.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/number_text.hpp"
+#include "number_text.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -14,8 +15,8 @@ namespace lasmesh {
 
 namespace {
 
-[[noreturn]] void usage_error(const std::string& what) {
-    throw Error(ErrorKind::usage, what);
+[[noreturn]] void usage_error(const std::string& what, const std::string& option) {
+    throw Error(ErrorKind::usage, what, option);
 }
 
 } // namespace
@@ -27,12 +28,14 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
         extent[a] = std::max(0.0, bounds.max[a] - bounds.min[a]);
         if (!std::isfinite(extent[a]))
             usage_error(std::string("the bounds along ") + "XYZ"[a] + " (" + shortest(bounds.min[a]) + " to " +
-                        shortest(bounds.max[a]) + ") are too wide to grid; give --bounds around the points");
+                            shortest(bounds.max[a]) + ") are too wide to grid; give bounds around the points",
+                        "bounds");
     }
     const double longest = std::max({extent[0], extent[1], extent[2]});
     const auto too_many = [](double cells) {
         usage_error("the grid would need " + four_digits(cells) + " cells along one axis, more than " +
-                    std::to_string(max_grid_cells) + "; use a larger --voxel or a smaller --grid");
+                        std::to_string(max_grid_cells) + "; use larger cells, or fewer",
+                    "grid");
     };
 
     // The cells span the bounds with half a cell to spare on each side: points on the bounds
@@ -40,10 +43,11 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
     // where no surface can be contoured.
     switch (request.kind) {
     case GridRequest::Kind::automatic:
-        // Choosing needs the point count as well as the bounds (choose_grid); accumulate_density
+        // Choosing needs the point count as well as the bounds (choose_grid); accumulate_cells
         // does that before it comes here.
-        usage_error("an automatic grid is chosen from the points' count and bounds: use accumulate_density or "
-                    "choose_grid, or ask for a number of cells or a cell edge");
+        usage_error("an automatic grid is chosen from the points' count as well as their bounds (build_mesh "
+                    "does it): ask for a number of cells or a cell edge",
+                    "grid");
     case GridRequest::Kind::longest_axis:
         if (request.dims[0] > max_grid_cells) too_many(request.dims[0]);
         grid.cell_size = longest / std::max<std::uint32_t>(1, request.dims[0] - 1);
@@ -66,7 +70,7 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
             grid.dims[a] = 1; // one cell holds everything
         } else {
             // One cell more than the extent needs (a hair less, so that the longest axis of
-            // `--grid N`, exactly N - 1 cells long, gets N), the extent centred in them.
+            // N cells along the longest axis, exactly N - 1 cells long, gets N), the extent centred in them.
             const double cells = std::ceil(extent[a] / grid.cell_size + 1 - 1e-9);
             if (!(cells <= max_grid_cells)) too_many(cells);
             grid.dims[a] = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(cells));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The memory guard of accumulate_density (see memory_guard.hpp), and memory_need.
+// The memory guard of accumulate_cells (see memory_guard.hpp), and memory_need.
 #include "memory_guard.hpp"
 
 #include "lasmesh/error.hpp"
@@ -52,7 +52,7 @@ std::uint64_t cell_words(bool color) {
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid) {
     std::array<std::uint32_t, 3> b{};
     for (int a = 0; a < 3; ++a)
-        b[a] = static_cast<std::uint32_t>((grid.dims[a] + DensityGrid::brick_size - 1) / DensityGrid::brick_size);
+        b[a] = static_cast<std::uint32_t>((grid.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
     return b;
 }
 
@@ -71,7 +71,7 @@ std::string exceeded(const MemoryNeed& need, const MemoryLimits& limits, const s
     if (limits.max_memory && need.device_bytes + need.host_bytes + limits.in_use > limits.max_memory)
         return "it needs " + mib(need.device_bytes + need.host_bytes) + " on host and device together" +
                (limits.in_use ? " besides the " + mib(limits.in_use) + " in use before reading" : std::string()) +
-               ", more than --max-memory (" + mib(limits.max_memory) + ")";
+               ", more than the memory limit (" + mib(limits.max_memory) + ")";
     return {};
 }
 
@@ -82,9 +82,10 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
     const std::uint32_t fit = largest_fitting_grid(header, options, longest_dim(grid), [&](const GridSpec& g) {
         return exceeded(memory_need(g, slice_bytes), limits, "").empty();
     });
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " (" + std::to_string(grid.cell_count()) +
-                                      " cells) does not fit: " + problem +
-                                      (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : ""));
+    throw Error(ErrorKind::usage,
+                "the grid " + dims_text(grid) + " (" + std::to_string(grid.cell_count()) + " cells) does not fit: " +
+                    problem + (fit > 0 ? "; a grid of " + std::to_string(fit) + " cells would fit" : ""),
+                "grid", fit > 0 ? std::to_string(fit) : "");
 }
 
 // Assumes the surface's bricks fall with the square of the grid.
@@ -99,15 +100,17 @@ void check_index_memory(const LasHeader& header, const AccumulateOptions& option
         static_cast<double>(bricks_used * brick_device_bytes(has_color(header))) * growth * cost_per_brick_byte;
     const double shrink = std::sqrt(static_cast<double>(available_bytes) / std::max(1.0, projected));
     const auto fit = static_cast<std::uint32_t>(std::floor(longest_dim(grid) * std::min(0.9, shrink * 0.9)));
-    throw Error(ErrorKind::usage, "the grid " + dims_text(grid) + " does not fit: after " +
-                                      std::to_string(points_read) + " of " + std::to_string(header.point_count) +
-                                      " points its surface fills " + std::to_string(bricks_used) + " bricks and " +
-                                      problem + (fit > 0 ? "; --grid " + std::to_string(fit) + " would fit" : "") +
-                                      " (nothing was written)");
+    throw Error(ErrorKind::usage,
+                "the grid " + dims_text(grid) + " does not fit: after " + std::to_string(points_read) + " of " +
+                    std::to_string(header.point_count) + " points its surface fills " + std::to_string(bricks_used) +
+                    " bricks and " + problem +
+                    (fit > 0 ? "; a grid of " + std::to_string(fit) + " cells would fit" : "") +
+                    " (nothing was written)",
+                "grid", fit > 0 ? std::to_string(fit) : "");
 }
 
 std::uint64_t first_chunk_bytes(const GridSpec& grid) {
-    return std::min<std::uint64_t>(1024, brick_count(grid)) * DensityGrid::brick_cells * cell_words(true) * 4;
+    return std::min<std::uint64_t>(1024, brick_count(grid)) * CellGrid::brick_cells * cell_words(true) * 4;
 }
 
 MemoryNeed memory_need(const GridSpec& grid, std::uint64_t slice_bytes) {

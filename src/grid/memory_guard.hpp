@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-// Internal: the memory guard of accumulate_density. What the grid needs is checked before
+// Internal: the memory guard of accumulate_cells. What the grid needs is checked before
 // reading (the brick index, the slices, the pool's first chunk) and each time the pool of bricks
-// grows, against the device's memory and largest allocation and --max-memory; a refusal says
-// what did not fit and a --grid that would.
+// grows, against the device's memory and largest allocation and the memory limit; a refusal says
+// what did not fit and a grid that would.
 #pragma once
 
-#include "lasmesh/grid/density_grid.hpp"
-#include "lasmesh/read/las_header.hpp"
+#include "grid/cell_sums.hpp"
+#include "read/las_header.hpp"
 
 #include <array>
 #include <cstdint>
@@ -35,12 +35,12 @@ struct MemoryLimits {
 std::string exceeded(const MemoryNeed& need, const MemoryLimits& limits, const std::string& what);
 
 // Refuses (Error, usage) a grid whose brick index and slices do not fit, naming the largest
-// --grid whose would.
+// grid whose would.
 void check_index_memory(const LasHeader& header, const AccumulateOptions& options, const GridSpec& grid,
                         std::uint64_t slice_bytes, const MemoryLimits& limits);
 
 // The pool of bricks outgrew a limit after `points_read` of the header's points: stops with a
-// --grid whose pool would fit in `available_bytes`, costing `cost_per_brick_byte` per byte of
+// grid whose pool would fit in `available_bytes`, costing `cost_per_brick_byte` per byte of
 // bricks in use.
 [[noreturn]] void pool_too_large(const LasHeader& header, const GridSpec& grid, const std::string& problem,
                                  std::uint64_t bricks_used, std::uint64_t points_read, std::uint64_t available_bytes,

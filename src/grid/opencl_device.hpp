@@ -7,7 +7,7 @@
 #define CL_HPP_ENABLE_EXCEPTIONS
 #include <CL/opencl.hpp>
 
-#include "lasmesh/grid/compute_device.hpp"
+#include "grid/compute_device.hpp"
 
 #include <string>
 

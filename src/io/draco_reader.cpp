@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Draco decoding through Draco's decoder: a .drc file, or the stream of a .glb's Draco
 // primitive (gltf_reader.cpp).
-#include "lasmesh/io/draco_reader.hpp"
+#include "io/draco_reader.hpp"
 
+#include "io/draco_writer.hpp"
 #include "io/mesh_file.hpp"
+#include "io/srgb.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/draco_writer.hpp"
-#include "lasmesh/io/srgb.hpp"
 
 #include <draco/compression/decode.h>
 #include <draco/mesh/mesh.h>

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Draco encoding: the Mesh copied into a draco::Mesh (one point per vertex, so connectivity is
 // kept as it is), then compressed by draco::Encoder.
-#include "lasmesh/io/draco_writer.hpp"
+#include "io/draco_writer.hpp"
 
+#include "io/output_file.hpp"
+#include "io/srgb.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/srgb.hpp"
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Reading a .glb: the container (12-byte header, JSON chunk, BIN chunk) parsed here, the JSON with
 // nlohmann-json, the first mesh's first primitive read plain or through Draco's decoder.
-#include "lasmesh/io/gltf_reader.hpp"
+#include "io/gltf_reader.hpp"
 
+#include "byte_order.hpp"
 #include "io/json.hpp"
 #include "io/mesh_file.hpp"
-#include "lasmesh/byte_order.hpp"
+#include "io/srgb.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/srgb.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,14 +4,14 @@
 // files hold only the Draco stream there, and their accessors have no buffer view. Draco's own
 // glTF encoder (1.5.5) is not used: it cannot write 16-bit COLOR_0, and node transforms need its
 // Scene API, whose headers need Eigen.
-#include "lasmesh/io/gltf_writer.hpp"
+#include "io/gltf_writer.hpp"
 
+#include "byte_order.hpp"
+#include "io/draco_reader.hpp"
 #include "io/json.hpp"
-#include "lasmesh/byte_order.hpp"
+#include "io/output_file.hpp"
+#include "io/srgb.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/io/draco_reader.hpp"
-#include "lasmesh/io/output_file.hpp"
-#include "lasmesh/io/srgb.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// JSON for machine-readable output (the run report, the command line's --json), through
+// JSON for machine-readable output (the run report, the command line's JSON), through
 // nlohmann-json. Internal: the library's public headers do not depend on a JSON library.
 #pragma once
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // OutputFile: temporary file, buffered writes with every error checked, rename at the end.
-#include "lasmesh/io/output_file.hpp"
+#include "io/output_file.hpp"
 
 #include "lasmesh/error.hpp"
 

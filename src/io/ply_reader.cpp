@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // PLY reader: the header describes elements as lists of typed properties; the body is read
 // element by element, keeping only what a mesh needs.
-#include "lasmesh/io/ply_reader.hpp"
+#include "io/ply_reader.hpp"
 
 #include "lasmesh/error.hpp"
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // PLY writer, streamed in blocks from the mesh arrays.
-#include "lasmesh/io/ply_writer.hpp"
+#include "io/ply_writer.hpp"
 
-#include "lasmesh/byte_order.hpp"
-#include "lasmesh/io/output_file.hpp"
+#include "byte_order.hpp"
+#include "io/output_file.hpp"
 
 #include <charconv>
 #include <cstdio>

@@ -2,8 +2,8 @@
 // The run report as JSON: the fields of RunReport in the order of the text summary, full precision.
 #include "lasmesh/build_mesh.hpp"
 
+#include "grid/cell_sums.hpp"
 #include "io/json.hpp"
-#include "lasmesh/grid/density_grid.hpp"
 
 namespace lasmesh {
 
@@ -20,7 +20,7 @@ std::string run_report_json(const RunReport& r) {
     json["surface"] = r.surface == SurfaceKind::sheet ? "sheet" : "closed";
     if (r.surface == SurfaceKind::closed) json["placement"] = r.placement == VertexPlacement::iso ? "iso" : "surface";
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
-                           {"median_count", r.median_count},     {"brick_cells", DensityGrid::brick_cells},
+                           {"median_count", r.median_count},     {"brick_cells", CellGrid::brick_cells},
                            {"pool_bytes", r.pool_bytes},         {"host_grid_bytes", r.host_grid_bytes}};
     json["pieces"] = {
         {"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};

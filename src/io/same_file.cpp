@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // same_file: identity by device and inode, so "in.las", "./in.las" and a hard link all match; a
 // path that does not exist yet has no inode, so its canonical folder plus name stands in.
-#include "lasmesh/io/same_file.hpp"
+#include "io/same_file.hpp"
 
 #include "lasmesh/error.hpp"
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The sRGB transfer functions of IEC 61966-2-1: a linear toe below 0.04045 (0.0031308 linear),
 // a 2.4 power curve above.
-#include "lasmesh/io/srgb.hpp"
+#include "io/srgb.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // compare: stream the cloud, keep an even subset, then measure both ways in parallel. Each
 // distance lands in its own slot, so the statistics do not depend on the thread count.
-#include "lasmesh/measure/compare.hpp"
+#include "lasmesh/compare.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/measure/mesh_distance.hpp"
-#include "lasmesh/read/las_point.hpp"
+#include "measure/mesh_distance.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_point.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Nearest-neighbour search by branch and bound over a bounding volume hierarchy.
-#include "lasmesh/measure/mesh_distance.hpp"
+#include "measure/mesh_distance.hpp"
 
 #include <algorithm>
 #include <cmath>

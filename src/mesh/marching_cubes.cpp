@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// The closed surface of the density grid: marching cubes over the count samples at the cell
+// The closed surface of the grid of point counts: marching cubes over the count samples at the cell
 // centres, visiting only the bricks near occupied cells (sparse_marching_cubes.hpp).
-#include "lasmesh/mesh/marching_cubes.hpp"
+#include "mesh/marching_cubes.hpp"
 
 #include "lasmesh/error.hpp"
-#include "lasmesh/mesh/normals.hpp"
+#include "lasmesh/normals.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -20,13 +20,13 @@ namespace {
 // (x, y, z) is the centre of cell (x - 1, y - 1, z - 1); the outer layer is padding, empty, so
 // every surface closes.
 struct DensityField {
-    const DensityGrid& grid;
+    const CellGrid& grid;
     std::array<std::int64_t, 3> points; // cells + 2 per axis
     double level;                       // interpolation level
     double iso;                         // inside means count > iso
     VertexPlacement placement;
 
-    DensityField(const DensityGrid& g, double iso_value, VertexPlacement p)
+    DensityField(const CellGrid& g, double iso_value, VertexPlacement p)
         : grid(g), points{g.spec.dims[0] + 2, g.spec.dims[1] + 2, g.spec.dims[2] + 2},
           level(std::floor(iso_value) == iso_value ? iso_value + 0.5 : iso_value), iso(iso_value), placement(p) {}
 
@@ -81,11 +81,11 @@ struct DensityField {
 
 } // namespace
 
-double automatic_iso(const DensityGrid& grid) {
+double automatic_iso(const CellGrid& grid) {
     return std::max(1.0, std::floor(0.1 * static_cast<double>(grid.median_count())));
 }
 
-Mesh extract_isosurface(const DensityGrid& grid, double iso, VertexPlacement placement) {
+Mesh extract_closed_surface(const CellGrid& grid, double iso, VertexPlacement placement) {
     const DensityField field(grid, iso, placement);
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_data(grid, field.points), grid.has_color());
     // A count field's gradient is too noisy for shading: the faces' normals instead.

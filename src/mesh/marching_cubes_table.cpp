@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Derivation of the case table: face segments by the separate-inside rule, chained into closed
 // polygons, fanned into triangles. See the header for the conventions.
-#include "lasmesh/mesh/marching_cubes_table.hpp"
+#include "mesh/marching_cubes_table.hpp"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Connected pieces by union-find over vertices, then one pass to keep or drop each triangle.
-#include "lasmesh/mesh/mesh_pieces.hpp"
+#include "lasmesh/mesh_pieces.hpp"
 
 #include "lasmesh/error.hpp"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Area-weighted vertex normals, summed in double: a float sum over thousands of faces drifts.
-#include "lasmesh/mesh/normals.hpp"
+#include "lasmesh/normals.hpp"
 
 #include <cmath>
 

@@ -21,10 +21,10 @@
 //   multiple of the mean edge length), each block is simplified by one thread with the vertices
 //   it shares with other blocks held, and further passes with the grid shifted by half a block
 //   free those. Blocks never share what they write, so any thread count gives the same bytes.
-#include "lasmesh/mesh/simplify.hpp"
+#include "lasmesh/simplify.hpp"
 
-#include "lasmesh/measure/mesh_distance.hpp"
-#include "lasmesh/mesh/normals.hpp"
+#include "lasmesh/normals.hpp"
+#include "measure/mesh_distance.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>

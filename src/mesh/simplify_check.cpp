@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // check_simplified: what a simplification did to the surface (tests, tools/simplify_bench).
-#include "lasmesh/mesh/simplify.hpp"
+#include "mesh/simplify_check.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -17,10 +17,10 @@
 // an inactive neighbour are then not sampled at all.
 #pragma once
 
+#include "grid/cell_sums.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/grid/density_grid.hpp"
 #include "lasmesh/mesh.hpp"
-#include "lasmesh/mesh/marching_cubes_table.hpp"
+#include "mesh/marching_cubes_table.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -115,8 +115,8 @@ class SparseMarchingCubes {
             for (int p = 0; p < cells; ++p) {
                 const FieldSample s = sampler.sample(origin[0] + p % B, origin[1] + p / B % B, origin[2] + p / (B * B));
                 if (s.source >= StoredSample::source_limit)
-                    throw Error(ErrorKind::usage,
-                                "the surface has more than 2^30 sources (cells); use a smaller --grid");
+                    throw Error(ErrorKind::usage, "the surface has more than 2^30 sources (cells); use a coarser grid",
+                                "grid");
                 block[p] = StoredSample::of(s);
                 any_defined |= s.defined;
             }
@@ -152,7 +152,7 @@ class SparseMarchingCubes {
             triangles_in[b + 1] += triangles_in[b];
         }
         if (vertices_in[n] > UINT32_MAX)
-            throw Error(ErrorKind::usage, "the mesh would have more than 2^32 vertices; use a smaller --grid");
+            throw Error(ErrorKind::usage, "the mesh would have more than 2^32 vertices; use a coarser grid", "grid");
         first_vertex_ = vertices_in;
 
         Mesh mesh;
@@ -362,10 +362,10 @@ class SparseMarchingCubes {
 // The bricks of a lattice of `points` that hold every lattice point within `reach` below and
 // reach + 1 above a cell of the grid's bricks `keys` (a lattice of cell centres, padded, has
 // reach 0; one of corners sampled a cell beyond the corners of occupied cells has reach 1).
-inline LatticeBricks lattice_near_bricks(const DensityGrid& grid, const std::vector<std::uint64_t>& keys,
+inline LatticeBricks lattice_near_bricks(const CellGrid& grid, const std::vector<std::uint64_t>& keys,
                                          std::array<std::int64_t, 3> points, int reach) {
     LatticeBricks lattice(points);
-    static_assert(LatticeBricks::size == DensityGrid::brick_size, "lattice and grid bricks align");
+    static_assert(LatticeBricks::size == CellGrid::brick_size, "lattice and grid bricks align");
     std::vector<std::uint64_t>& active = lattice.active;
     for (std::uint64_t key : keys) {
         const std::int64_t bx = key % grid.bricks[0], by = key / grid.bricks[0] % grid.bricks[1],
@@ -383,7 +383,7 @@ inline LatticeBricks lattice_near_bricks(const DensityGrid& grid, const std::vec
 }
 
 // The same around every occupied brick.
-inline LatticeBricks lattice_near_data(const DensityGrid& grid, std::array<std::int64_t, 3> points, int reach = 0) {
+inline LatticeBricks lattice_near_data(const CellGrid& grid, std::array<std::int64_t, 3> points, int reach = 0) {
     return lattice_near_bricks(grid, grid.brick_keys, points, reach);
 }
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // extract_sheet: tangent planes from the cells' moments, oriented by a spanning tree, sampled as a
 // signed distance at the cell corners and contoured by sparse marching cubes.
-#include "lasmesh/mesh/surface_sheet.hpp"
+#include "mesh/surface_sheet.hpp"
 
-#include "lasmesh/mesh/normals.hpp"
+#include "lasmesh/normals.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -67,7 +67,7 @@ Vec plane_normal(std::array<std::array<double, 3>, 3> a) {
 
 // The surface cells and their tangent planes.
 struct Planes {
-    const DensityGrid& grid;
+    const CellGrid& grid;
     std::vector<std::uint32_t> of_record; // per grid.cells record: its plane, or no_plane
     std::vector<std::array<std::int64_t, 3>> cell;
     std::vector<Vec> centroid; // relative to the grid origin
@@ -76,7 +76,7 @@ struct Planes {
     std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
-    Planes(const DensityGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
+    Planes(const CellGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
         g.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
             if (!(static_cast<double>(g.cells[r].count) > iso)) return;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
@@ -90,7 +90,7 @@ struct Planes {
     // From the grid's brick index only (its cells may be gone).
     std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
         const std::uint64_t r = grid.record_of(x, y, z);
-        return r == DensityGrid::no_record ? no_plane : of_record[r];
+        return r == CellGrid::no_record ? no_plane : of_record[r];
     }
     template <class Visit>
     void for_each_neighbour(std::uint32_t p, Visit visit) const {
@@ -418,9 +418,9 @@ struct SheetField {
         s.row.assign(static_cast<std::size_t>(s.span * s.span), 0);
         assert(s.span <= 16);
         // Copied from the grid's bricks that overlap the held cells: one index lookup a brick.
-        const DensityGrid& g = planes.grid;
-        constexpr int bits = DensityGrid::brick_bits;
-        constexpr std::int64_t size = DensityGrid::brick_size;
+        const CellGrid& g = planes.grid;
+        constexpr int bits = CellGrid::brick_bits;
+        constexpr std::int64_t size = CellGrid::brick_size;
         std::array<std::int64_t, 3> lo{}, hi{};
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::max<std::int64_t>(s.first[a] >> bits, 0);
@@ -433,7 +433,7 @@ struct SheetField {
                         (std::uint64_t(bz) * g.bricks[1] + std::uint64_t(by)) * g.bricks[0] + std::uint64_t(bx));
                     if (at == 0) continue;
                     // The brick's planes by cell (its records hold only the occupied cells).
-                    std::array<std::uint32_t, DensityGrid::brick_cells> records;
+                    std::array<std::uint32_t, CellGrid::brick_cells> records;
                     records.fill(no_plane);
                     std::uint64_t r = g.brick_first[at - 1];
                     for (std::uint64_t mask = g.brick_masks[at - 1]; mask != 0; mask &= mask - 1)
@@ -496,7 +496,7 @@ struct SheetField {
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
 // table once the corners are sampled.
-Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
+Mesh extract(const CellGrid& grid, double iso, CellGrid* owned) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
@@ -534,11 +534,11 @@ Mesh extract(const DensityGrid& grid, double iso, DensityGrid* owned) {
 
 } // namespace
 
-Mesh extract_sheet(const DensityGrid& grid, double iso) {
+Mesh extract_sheet(const CellGrid& grid, double iso) {
     return extract(grid, iso, nullptr);
 }
 
-Mesh extract_sheet(DensityGrid&& grid, double iso) {
+Mesh extract_sheet(CellGrid&& grid, double iso) {
     return extract(grid, iso, &grid);
 }
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // InputStream: plain read(2) for uncompressed input, a Boost.Iostreams filter chain otherwise.
-#include "lasmesh/read/input_stream.hpp"
+#include "read/input_stream.hpp"
 
 #include "lasmesh/error.hpp"
 

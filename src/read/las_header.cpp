@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Parsing and validation of the LAS public header block and VLRs (LAS 1.4 R15, section 2).
-#include "lasmesh/read/las_header.hpp"
-#include "lasmesh/number_text.hpp"
+#include "read/las_header.hpp"
+#include "number_text.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/input_stream.hpp"
+#include "read/input_stream.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -243,13 +243,17 @@ void check_header_bounds_usable(const LasHeader& h, const std::string& name) {
         const double lowest = h.offset[a] + (std::numeric_limits<std::int32_t>::min() - 1.0) * h.scale[a];
         const double highest = h.offset[a] + (std::numeric_limits<std::int32_t>::max() + 1.0) * h.scale[a];
         if (h.min[a] < lowest || h.max[a] > highest)
-            throw_input_error(name, field + " lie beyond every coordinate a record can hold (" + text(lowest) + " to " +
-                                        text(highest) +
-                                        " with this scale and offset): the header is damaged; "
-                                        "give --scan-bounds or --bounds");
+            throw_input_error(name,
+                              field + " lie beyond every coordinate a record can hold (" + text(lowest) + " to " +
+                                  text(highest) +
+                                  " with this scale and offset): the header is damaged; "
+                                  "scan the points for their bounds, or give bounds",
+                              "scan_bounds,bounds");
         if (!(h.max[a] - h.min[a] < 1e37))
-            throw_input_error(name, field + " span more than a mesh's float positions can hold: the header is "
-                                            "damaged; give --scan-bounds or --bounds");
+            throw_input_error(name,
+                              field + " span more than a mesh's float positions can hold: the header is "
+                                      "damaged; scan the points for their bounds, or give bounds",
+                              "scan_bounds,bounds");
     }
 }
 

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // LasReader: whole records straight from the stream into the caller's buffer.
-#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/las_reader.hpp"
 
 #include "lasmesh/error.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_header.hpp"
+#include "read/las_point.hpp"
 #include "read/laz_decoder.hpp"
 
 #include <algorithm>
+#include <vector>
 
 namespace lasmesh {
 
@@ -23,8 +27,9 @@ LasHeader read_header(InputStream& stream) {
 }
 } // namespace
 
-LasReader::LasReader(const std::string& path) : stream_(path), header_(read_header(stream_)) {
-    if (header_.compressed) laz_ = std::make_unique<laz::LazDecoder>(stream_, header_, path);
+LasReader::LasReader(const std::string& path)
+    : stream_(std::make_unique<InputStream>(path)), header_(read_header(*stream_)) {
+    if (header_.compressed) laz_ = std::make_unique<laz::LazDecoder>(*stream_, header_, path);
 }
 
 LasReader::~LasReader() = default;
@@ -42,25 +47,25 @@ std::size_t LasReader::read_records(std::span<std::byte> dst) {
         const std::size_t got = laz_->read(dst.data(), static_cast<std::size_t>(wanted));
         records_read_ += got;
         if (got < wanted)
-            throw_input_error(stream_.name(), "LAZ chunks hold " + std::to_string(records_read_) +
-                                                  " point records, but the header promises " +
-                                                  std::to_string(header_.point_count));
+            throw_input_error(stream_->name(), "LAZ chunks hold " + std::to_string(records_read_) +
+                                                   " point records, but the header promises " +
+                                                   std::to_string(header_.point_count));
         return got;
     }
-    const std::size_t got = stream_.read(dst.data(), bytes);
+    const std::size_t got = stream_->read(dst.data(), bytes);
     if (got < bytes) {
         const std::uint64_t whole = records_read_ + got / length;
         std::string partial =
             got % length ? " and " + std::to_string(got % length) + " bytes of record " + std::to_string(whole) : "";
-        throw_input_error(stream_.name(), "ends at byte " + std::to_string(stream_.position()) + " after " +
-                                              std::to_string(whole) + " whole point records" + partial +
-                                              ", but the header promises " + std::to_string(header_.point_count) +
-                                              " records of " + std::to_string(length) +
-                                              " bytes (truncated file or pipe?)");
+        throw_input_error(stream_->name(), "ends at byte " + std::to_string(stream_->position()) + " after " +
+                                               std::to_string(whole) + " whole point records" + partial +
+                                               ", but the header promises " + std::to_string(header_.point_count) +
+                                               " records of " + std::to_string(length) +
+                                               " bytes (truncated file or pipe?)");
     }
     records_read_ += wanted;
     // After the last promised record: verify the codec's end and count what follows.
-    if (records_left() == 0) trailing_bytes_ = stream_.drain();
+    if (records_left() == 0) trailing_bytes_ = stream_->drain();
     return static_cast<std::size_t>(wanted);
 }
 
@@ -76,6 +81,24 @@ std::string trailing_warning(const LasReader& reader) {
            std::to_string(bytes / length) + " whole records of " + std::to_string(length) + " bytes) follow the " +
            std::to_string(reader.header().point_count) +
            " point records the header counts and were left out (is the header's point count wrong?)";
+}
+
+std::size_t read_points(LasReader& reader, std::span<LasPoint> dst) {
+    const PointDecoder decoder(reader.header());
+    std::vector<std::byte> records(std::min<std::size_t>(dst.size(), 1 << 16) * decoder.record_length);
+    std::size_t done = 0;
+    while (done < dst.size()) {
+        const std::size_t want = std::min(dst.size() - done, records.size() / decoder.record_length);
+        const std::size_t got = reader.read_records({records.data(), want * decoder.record_length});
+        for (std::size_t i = 0; i < got; ++i) {
+            const std::byte* record = records.data() + i * decoder.record_length;
+            dst[done + i].position = decoder.position(record);
+            dst[done + i].color = decoder.has_color() ? decoder.color(record) : Rgb16{};
+        }
+        done += got;
+        if (got < want) break;
+    }
+    return done;
 }
 
 } // namespace lasmesh

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // scan_points: min/max over raw integers (cheap), converted to world units once at the end; the
 // cores scan one chunk while the next is read.
-#include "lasmesh/read/las_scan.hpp"
+#include "read/las_scan.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>

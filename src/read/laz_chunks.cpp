@@ -2,7 +2,7 @@
 // Chunk table decoding (see the header).
 #include "read/laz_chunks.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
 #include "read/arithmetic_decoder.hpp"
 

@@ -2,7 +2,7 @@
 // LazDecoder: chunk table, batches of chunks decoded in parallel, sequential fallbacks.
 #include "read/laz_decoder.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
 #include "read/laz_layered.hpp"
 #include "read/laz_pointwise.hpp"

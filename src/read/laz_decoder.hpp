@@ -8,9 +8,9 @@
 // chunks cannot be found without the table and are refused with advice to give a file path.
 #pragma once
 
-#include "lasmesh/read/input_stream.hpp"
-#include "lasmesh/read/las_header.hpp"
 #include "read/arithmetic_decoder.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_header.hpp"
 #include "read/laz_chunks.hpp"
 #include "read/laz_vlr.hpp"
 

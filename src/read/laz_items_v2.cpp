@@ -2,7 +2,7 @@
 // Pointwise items v2 (and WAVEPACKET13 v1): see the header.
 #include "read/laz_items_v2.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "read/laz_gps_time.hpp"
 #include "read/laz_vlr.hpp"
 

@@ -4,7 +4,7 @@
 // contexts, one per scanner channel, and switches with the point's channel.
 #include "read/laz_layered.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "read/arithmetic_decoder.hpp"
 #include "read/laz_chunks.hpp"
 #include "read/laz_gps_time.hpp"

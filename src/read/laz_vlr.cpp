@@ -2,7 +2,7 @@
 // Parsing of the LASzip VLR (layout: laszip.org "LAZ specification"; Isenburg 2013, section 4).
 #include "read/laz_vlr.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "byte_order.hpp"
 #include "lasmesh/error.hpp"
 
 namespace lasmesh::laz {

@@ -21,7 +21,14 @@ for command in "" info grid compare; do
 done
 check "the man page has every option --help shows" test -z "$missing" || echo "missing from the man page:$missing"
 check "the man page has each command's examples" grep -qF 'lasmesh compare deck.drc deck.las \-\-json' "$man"
-check "the public headers are installed" test -s "$dir/prefix/include/lasmesh/mesh/marching_cubes.hpp"
+installed=$(cd "$dir/prefix/include/lasmesh" && ls)
+check "the public headers are installed, and only they" test "$installed" = "$(cd "$source/include/lasmesh" && ls)"
+check "the public API is at most 12 headers" test "$(echo "$installed" | wc -l)" -le 12
+alone=""
+for header in $installed; do
+  echo "#include <lasmesh/$header>" | g++ -std=c++20 -fsyntax-only -x c++ -I "$dir/prefix/include" - 2> /dev/null || alone+=" $header"
+done
+check "each public header compiles on its own (no internal header behind it)" test -z "$alone" || echo "not alone:$alone"
 check "the library is installed" test -s "$dir/prefix/lib/liblasmesh.a"
 check "the package config is installed" test -s "$dir/prefix/lib/cmake/lasmesh/lasmeshConfig.cmake"
 targets=$(ls "$dir"/prefix/lib/cmake/lasmesh/lasmeshTargets.cmake)
@@ -42,6 +49,8 @@ check "the consumer's build_mesh calls succeed" test $? -eq 0
 check "the consumer reads and meshes" grep -q "^20000 points, [1-9][0-9]* triangles" "$dir/out.txt"
 check "the consumer's mesh is closed" grep -q "triangles, closed$" "$dir/out.txt"
 check "the consumer's PLY is written" test -s "$dir/s.ply"
+check "the consumer reads the points back and measures its mesh against them" \
+  grep -q "^read 20000 points; half of them within [0-9.e-]* of the mesh$" "$dir/out.txt"
 # BuildOptions{} is the command line's default run: the same bytes.
 "$dir/prefix/bin/lasmesh" "$dir/s.las" -o "$dir/cli.glb" -q
 check "BuildOptions{} writes what the command writes with no options" cmp "$dir/lib.glb" "$dir/cli.glb"

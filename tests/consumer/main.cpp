@@ -1,15 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
 // Meshes a LAS file through the installed library's one entry point, build_mesh, twice: with
 // BuildOptions{} into DEFAULT_OUT (which must equal the command line's output with no options,
-// byte for byte), and as a coarse closed surface whose mesh is checked here. The headers, the
-// reader (Boost.Iostreams inside), the OpenCL accumulation, the extractor (TBB) and the writers
-// all link from the package alone.
+// byte for byte), and as a coarse closed surface whose mesh is checked here; then reads the
+// points and the written mesh back and compares them. The headers, the reader (Boost.Iostreams
+// inside), the OpenCL accumulation, the extractor (TBB), the writers and readers all link from
+// the package alone.
 // Usage: consumer INPUT DEFAULT_OUT CLOSED_OUT.ply
 #include <lasmesh/build_mesh.hpp>
+#include <lasmesh/compare.hpp>
+#include <lasmesh/las_reader.hpp>
+#include <lasmesh/mesh_files.hpp>
 
 #include <iostream>
 #include <map>
 #include <utility>
+#include <vector>
 
 int main(int argc, char** argv) {
     if (argc != 4) return 1;
@@ -40,6 +45,17 @@ int main(int argc, char** argv) {
 
     std::cout << result.report.points_read << " points, " << mesh.triangles.size() << " triangles, "
               << (closed ? "closed" : "open") << "\n";
+
+    // The points, read through the public reader; the mesh, read back from its file.
+    lasmesh::LasReader reader(argv[1]);
+    std::vector<lasmesh::LasPoint> points(4096);
+    std::uint64_t read = 0;
+    while (const std::size_t n = lasmesh::read_points(reader, points)) read += n;
+    const lasmesh::Mesh written = lasmesh::read_mesh(argv[3]);
+    lasmesh::LasReader cloud(argv[1]);
+    const lasmesh::CompareResult fit = lasmesh::compare(written, cloud, {});
+    std::cout << "read " << read << " points; half of them within " << fit.cloud_to_mesh.median << " of the mesh\n";
+    if (read != result.report.points_read || written.triangles.size() != mesh.triangles.size()) return 1;
     const bool counts_agree = result.report.triangles == mesh.triangles.size() &&
                               result.report.vertices == mesh.positions.size() && result.report.outputs.size() == 1;
     return closed && counts_agree ? 0 : 1;

@@ -5,8 +5,8 @@
 // A lasmesh::Error is the expected answer to bad bytes; anything else (a crash, a sanitizer
 // report, another exception) is a bug. Built and run by tools/fuzz.sh.
 #include "lasmesh/error.hpp"
-#include "lasmesh/read/las_reader.hpp"
-#include "lasmesh/read/las_scan.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/las_scan.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -2,7 +2,9 @@
 // LAS writing from the specification's field tables (LAS 1.4 R15, sections 2.2-2.6).
 #include "las_writer.hpp"
 
-#include "lasmesh/byte_order.hpp"
+#include "read/las_header.hpp"
+
+#include "byte_order.hpp"
 
 #include <cmath>
 #include <cstring>

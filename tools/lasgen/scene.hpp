@@ -3,7 +3,7 @@
 // only on (seed, index), so any block size or thread count gives the same file.
 #pragma once
 
-#include "lasmesh/read/las_header.hpp"
+#include "lasmesh/mesh.hpp"
 
 #include <array>
 #include <cstdint>

@@ -23,15 +23,13 @@
 //   showing the vertex colours), double-sided: meshes may be open sheets, seen from both sides.
 #pragma once
 
-#include "lasmesh/io/draco_writer.hpp"
+#include "io/draco_writer.hpp"
 #include "lasmesh/mesh.hpp"
+#include "lasmesh/mesh_files.hpp"
 
 #include <string>
 
 namespace lasmesh {
-
-enum class GltfCompression { none, draco };
-enum class GltfOrigin { extras, node };
 
 struct GltfOptions {
     GltfCompression compression = GltfCompression::none;

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// One pass over every record: the facts `lasmesh info --scan` reports, computed from the records
+// One pass over every record: the facts a scan of the records reports, computed from the records
 // themselves rather than taken from the header.
 #pragma once
 
-#include "lasmesh/read/las_point.hpp"
-#include "lasmesh/read/las_reader.hpp"
+#include "lasmesh/las_reader.hpp"
+#include "read/las_point.hpp"
 
 #include <cstddef>
 #include <cstdint>

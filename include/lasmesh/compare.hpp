@@ -4,8 +4,8 @@
 // points, or does it invent shapes?).
 #pragma once
 
+#include "lasmesh/las_reader.hpp"
 #include "lasmesh/mesh.hpp"
-#include "lasmesh/read/las_reader.hpp"
 
 #include <array>
 #include <cstdint>

@@ -3,8 +3,8 @@
 // has it. Inline, because it runs once per point.
 #pragma once
 
-#include "lasmesh/byte_order.hpp"
-#include "lasmesh/read/las_header.hpp"
+#include "byte_order.hpp"
+#include "read/las_header.hpp"
 
 #include <array>
 #include <cstdint>

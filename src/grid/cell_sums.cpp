@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// DensityGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks
+// CellGrid's cell arithmetic (occupancy, fullest and median cell, mean colour, centroid) and the grid a header asks
 // for.
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/cell_sums.hpp"
 
 #include "memory_guard.hpp"
 
@@ -26,10 +26,10 @@ BrickTable::BrickTable(const std::vector<std::uint64_t>& keys) {
 }
 
 std::uint64_t brick_device_bytes(bool has_color) {
-    return DensityGrid::brick_cells * cell_words(has_color) * 4;
+    return CellGrid::brick_cells * cell_words(has_color) * 4;
 }
 
-std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cells>& brick) {
+std::uint64_t CellGrid::append_occupied(const std::array<CellSums, brick_cells>& brick) {
     std::uint64_t mask = 0;
     for (std::size_t k = 0; k < brick.size(); ++k)
         if (brick[k].count > 0) {
@@ -39,11 +39,11 @@ std::uint64_t DensityGrid::append_occupied(const std::array<CellSums, brick_cell
     return mask;
 }
 
-std::uint64_t DensityGrid::occupied_cells() const {
+std::uint64_t CellGrid::occupied_cells() const {
     return cells.size();
 }
 
-std::uint64_t DensityGrid::median_count() const {
+std::uint64_t CellGrid::median_count() const {
     if (cells.empty()) return 0;
     std::vector<std::uint64_t> counts;
     counts.reserve(cells.size());
@@ -53,17 +53,17 @@ std::uint64_t DensityGrid::median_count() const {
     return *middle;
 }
 
-std::uint64_t DensityGrid::fullest_cell() const {
+std::uint64_t CellGrid::fullest_cell() const {
     std::uint64_t fullest = 0;
     for (const CellSums& cell : cells) fullest = std::max(fullest, cell.count);
     return fullest;
 }
 
-std::uint64_t DensityGrid::host_bytes() const {
+std::uint64_t CellGrid::host_bytes() const {
     return brick_table.bytes() + brick_keys.size() * 3 * sizeof(std::uint64_t) + cells.size() * sizeof(CellSums);
 }
 
-Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
+Rgb8 CellGrid::mean_color(const CellSums& cell) const {
     const std::uint64_t n = cell.count;
     if (n == 0 || !has_color()) return {0, 0, 0};
     // Rounded integer division; 128-bit so no count or sum can overflow.
@@ -74,7 +74,7 @@ Rgb8 DensityGrid::mean_color(const CellSums& cell) const {
     return {mean(cell.color[0]), mean(cell.color[1]), mean(cell.color[2])};
 }
 
-Vec3 DensityGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
+Vec3 CellGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const {
     Vec3 p{};
     for (int a = 0; a < 3; ++a) {
         const double raw =

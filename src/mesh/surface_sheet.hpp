@@ -3,16 +3,11 @@
 // per-cell point moments (no point is kept after accumulation).
 #pragma once
 
-#include "lasmesh/grid/density_grid.hpp"
+#include "grid/cell_sums.hpp"
 #include "lasmesh/mesh.hpp"
+#include "lasmesh/surface.hpp"
 
 namespace lasmesh {
-
-// What extraction makes of the grid.
-enum class SurfaceKind {
-    sheet,  // one open sheet through the points of each surface (extract_sheet): the default
-    closed, // a watertight surface around the occupied cells (extract_isosurface), for solids
-};
 
 // The surface the points define, after Hoppe et al. 1992 ("Surface reconstruction from
 // unorganized points"), with the grid's cells standing in for the points' neighbourhoods:
@@ -34,10 +29,10 @@ enum class SurfaceKind {
 // triangles face along the oriented normals; vertex normals are the planes' normals and vertex
 // colours the cells' mean colours, both interpolated along the edge. Each connected part of the
 // result is turned, if need be, to face the outside.
-Mesh extract_sheet(const DensityGrid& grid, double iso);
+Mesh extract_sheet(const CellGrid& grid, double iso);
 // The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
 // geometry and index, its cells are empty afterwards): the grid's memory and the mesh's never
 // add up.
-Mesh extract_sheet(DensityGrid&& grid, double iso);
+Mesh extract_sheet(CellGrid&& grid, double iso);
 
 } // namespace lasmesh

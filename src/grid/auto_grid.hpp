@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
-// `--grid auto`: a cell size from the data's density, so that the cells on a scanned surface hold
+// A grid chosen from the data: a cell size from the data's density, so that the cells on a scanned surface hold
 // enough points for the surface to close. Too fine a grid leaves holes (cells with no points
 // between the points); too coarse a one blurs detail. Estimated from the header alone (count and
 // extents), before any point is read; then, once the points are counted, coarsened while most
 // occupied cells hold too few points (the header cannot tell a surface's true area).
 #pragma once
 
-#include "lasmesh/grid/density_grid.hpp"
-#include "lasmesh/grid/grid.hpp"
-#include "lasmesh/read/las_header.hpp"
+#include "grid/cell_sums.hpp"
+#include "lasmesh/grid.hpp"
+#include "read/las_header.hpp"
 
 #include <cstdint>
 #include <string>
@@ -36,14 +36,14 @@ GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const st
 // the occupied cells is below this, and the longest axis has more than auto_grid_min_cells.
 constexpr std::uint64_t auto_grid_min_median = 4;
 
-// --grid auto's second look: coarsens `grid` while the median count of its occupied cells is
+// The automatic grid's second look: coarsens `grid` while the median count of its occupied cells is
 // below auto_grid_min_median and its longest axis has more than auto_grid_min_cells. Returns
 // what was done, for the summary ("" when nothing).
-std::string coarsen_while_sparse(DensityGrid& grid);
+std::string coarsen_while_sparse(CellGrid& grid);
 
 // The grid with cells twice as large: each cell the exact sums of the 2 x 2 x 2 cells it covers
 // (the last cell along an odd axis covers one and ends where the fine grid ended). Otherwise
 // the grid accumulating at that cell size gives.
-DensityGrid coarsen_grid(const DensityGrid& fine);
+CellGrid coarsen_grid(const CellGrid& fine);
 
 } // namespace lasmesh

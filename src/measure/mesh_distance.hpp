@@ -4,7 +4,7 @@
 #pragma once
 
 #include "lasmesh/mesh.hpp"
-#include "lasmesh/read/las_header.hpp"
+#include "read/las_header.hpp"
 
 #include <array>
 #include <cstdint>

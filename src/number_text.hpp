@@ -58,7 +58,7 @@ inline std::string megabytes(std::uint64_t bytes) {
     return text.str();
 }
 
-// Binary megabytes, as --max-memory counts them.
+// Binary megabytes, as the memory limit counts them.
 inline std::string mebibytes(std::uint64_t bytes) {
     std::ostringstream text;
     text << std::fixed << std::setprecision(1) << bytes / 1048576.0 << " MiB";

@@ -4,17 +4,11 @@
 #pragma once
 
 #include "lasmesh/mesh.hpp"
+#include "lasmesh/mesh_files.hpp"
 
 #include <string>
 
 namespace lasmesh {
-
-struct DracoOptions {
-    int position_bits = 0; // position quantization, 1-30; 0: automatic_position_bits(mesh)
-    int level = 7;         // 0 (fastest) to 10 (smallest); Draco's encoding speed is 10 - level
-    // Normal quantization in bits (Draco's octahedral coding): 10 keeps them within ~0.2 degrees.
-    int normal_bits = 10;
-};
 
 // Draco geometry metadata entries: "origin", 3 doubles, the world coordinates of the local frame
 // (add them to the positions); the same as three scalar doubles "origin_x", "origin_y",

@@ -5,9 +5,10 @@
 // point take memory, so memory follows the scanned surface, not the volume it spans.
 #pragma once
 
-#include "lasmesh/grid/compute_device.hpp"
-#include "lasmesh/grid/grid.hpp"
-#include "lasmesh/read/las_reader.hpp"
+#include "grid/axis_cells.hpp"
+#include "grid/compute_device.hpp"
+#include "lasmesh/grid.hpp"
+#include "lasmesh/las_reader.hpp"
 
 #include <array>
 #include <bit>
@@ -25,8 +26,8 @@ struct AccumulateOptions {
     GridRequest grid;
     std::optional<Bounds> bounds;    // default: the header bounds
     std::optional<GridSpec> spec;    // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
-    std::uint64_t slice_bytes = 0;   // upper limit on one upload (--chunk-mb); 0: 16 MiB
-    std::uint64_t max_memory = 0;    // --max-memory, host and device together; 0: no limit of ours
+    std::uint64_t slice_bytes = 0;   // upper limit on one upload; 0: 16 MiB
+    std::uint64_t max_memory = 0;    // host and device together; 0: no limit of ours
     std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
     std::uint64_t max_alloc = 0;     // lower the device's maximum allocation (tests); 0: the device's
     // Use a CPU device as a discrete GPU is used: buffers in the device's own memory, filled and
@@ -75,7 +76,7 @@ class BrickTable {
     std::vector<std::uint32_t> values_;
 };
 
-struct DensityGrid {
+struct CellGrid {
     // Cells per brick edge: 4 measured best on the deck (docs/benchmarks.md, "Sparse grid").
     static constexpr int brick_bits = 2;
     static constexpr std::int64_t brick_size = 1 << brick_bits;
@@ -189,8 +190,8 @@ GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options);
 // Reads every remaining record of `reader` and accumulates it on `device`. Refuses, before
 // allocating anything, a brick index that does not fit; stops with an Error (usage) when the
 // pool of bricks would outgrow the device's memory, its largest allocation or
-// options.max_memory, saying how far it got and a --grid that would fit. Reading the next slice
+// options.max_memory, saying how far it got and a grid that would fit. Reading the next slice
 // overlaps the device's work on the current one.
-DensityGrid accumulate_density(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options);
+CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options);
 
 } // namespace lasmesh

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Refusing a run whose outputs would overwrite its input or each other: a user who types
-// `lasmesh in.ply -o in.ply` or `-o out.ply --report out.ply` loses data without a word otherwise.
+// an output path that is the input, or the same as another output, loses data without a word otherwise.
 #pragma once
 
 #include <string>
