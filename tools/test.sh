@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/build.sh
-bash tools/format.sh --check
+bash tools/check_sources.sh
 # The Khronos glTF validator for the .glb tests, pinned, into the build folder; once.
 validator_version=2.0.0-dev.3.10
 if ! grep -qs "\"version\": \"$validator_version\"" build/gltf-validator/node_modules/gltf-validator/package.json; then
@@ -23,7 +23,7 @@ fi
 # the command-line tests that feed the tool bad input (errors, LAZ) or run the whole pipeline
 # (mesh). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
 # tests, which go through the same library code as these with good input.
-if [ ! -f build-asan/CMakeCache.txt ]; then
+if [ ! -f build-asan/Makefile ]; then # (a configure that failed leaves a cache but no Makefile)
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_UNITY_BUILD=ON \
     -DCMAKE_CXX_FLAGS="-O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" >/dev/null
 fi
