@@ -168,9 +168,9 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
               std::to_string(r.median_count) + " points each): try a coarser grid than " + dims;
         option = "grid";
     } else if (r.pieces.removed > 0 && r.pieces.triangles_removed >= extracted) {
-        why = "small-piece removal removed all " + std::to_string(r.pieces.removed) + " pieces (" +
-              std::to_string(r.pieces.triangles_removed) + " triangles), each smaller than a diagonal of " +
-              shortest(r.pieces.min_diagonal) + ": try a smaller smallest piece, or 0 to keep every piece";
+        why = "all " + std::to_string(r.pieces.removed) + " pieces (" + std::to_string(r.pieces.triangles_removed) +
+              " triangles) are smaller than the smallest piece kept, a diagonal of " + shortest(r.pieces.min_diagonal) +
+              ": try a smaller one, or 0 to keep every piece";
         option = "min_piece";
     } else {
         why = "simplification removed every triangle: try a smaller bound, or 0 for none";
@@ -195,7 +195,8 @@ std::vector<MeshFormat> check_options(const std::string& input, const BuildOptio
     for (const OutputRequest& output : o.outputs) {
         const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
         if (!format)
-            usage_error("outputs", "output \"" + output.path + "\": unknown extension, expected .ply, .drc or .glb");
+            usage_error("outputs",
+                        "output \"" + output.path + "\": unknown extension, expected .ply, .drc, .glb or .png");
         formats.push_back(*format);
     }
     for (const OutputRequest& output : o.outputs) check_output_folder(output.path);

@@ -17,6 +17,8 @@
 //   .glb  glTF 2.0, Y-up (LAS's z is glTF's y), plain (every reader) or Draco-compressed; colour
 //         as linear 16-bit COLOR_0; the origin in the scene's and node's extras ("origin", LAS
 //         axes), and as the node's translation with GltfOrigin::node.
+//   .png  a picture, not the mesh: four views (top, front, side, oblique) rendered on the CPU,
+//         1600 x 1200, for reports and for people without a 3D viewer (written only).
 #pragma once
 
 #include "lasmesh/mesh.hpp"
@@ -29,7 +31,8 @@ namespace lasmesh {
 enum class MeshFormat {
     ply,   // PLY, binary little-endian unless `ascii`
     draco, // .drc: Draco-compressed mesh
-    glb,   // glTF 2.0 binary, plain or Draco-compressed (see io/gltf_writer.hpp)
+    glb,   // glTF 2.0 binary, plain or Draco-compressed
+    png,   // a preview picture of the mesh (written only)
 };
 
 struct DracoOptions {
@@ -56,7 +59,7 @@ struct OutputRequest {
     GltfOrigin glb_origin = GltfOrigin::extras;              // glb only: translation node or not
 };
 
-// The format an output path's extension names (.ply, .drc, .glb, any case), or nullopt.
+// The format an output path's extension names (.ply, .drc, .glb, .png, any case), or nullopt.
 std::optional<MeshFormat> format_from_extension(const std::string& path);
 
 // Writes `mesh` as `output` asks; `name` names the .glb's scene, node, mesh and material.
@@ -64,7 +67,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path);
 // mesh has no triangles (Draco and glTF need some).
 void write_mesh(const Mesh& mesh, const OutputRequest& output, const std::string& name = "mesh");
 
-// Reads a .ply (lasmesh's or any triangle PLY), .drc or .glb by its extension, into a Mesh in the
+// Reads a .ply (lasmesh's or any triangle PLY), .drc or .glb (not .png) by its extension, into a Mesh in the
 // file's local frame. Throws Error: usage for another extension, input naming the file, the byte
 // offset and what was expected.
 Mesh read_mesh(const std::string& path);

@@ -61,16 +61,21 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
         ->required();
     c->add_option("--samples", o.samples, "Cloud points used at most, spread evenly over the file")
+        ->type_name("N")
         ->capture_default_str()
         ->check(whole_number(1, std::uint64_t{1} << 34));
     c->add_option("--mesh-samples", o.mesh_samples, "Points sampled on the mesh for the mesh-to-cloud distances")
+        ->type_name("N")
         ->capture_default_str()
         ->check(whole_number(1, 100'000'000)); // 3.2 GB of samples and distances
     c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
+        ->type_name("LENGTH")
         ->check(positive_number());
-    c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud");
+    c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud")
+        ->type_name("FILE.ply");
     c->add_option("--heatmap-scale", o.heatmap_scale,
                   "Distance shown red in the heat map (default: 2 cells, or the p99)")
+        ->type_name("LENGTH")
         ->check(positive_number());
     c->add_flag("--json", o.json, "One JSON object instead of text");
     c->footer(

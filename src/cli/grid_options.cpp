@@ -16,28 +16,35 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         .add_option(
             "--grid", o.grid,
             "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
+        ->type_name("N|NXxNYxNZ|auto")
         ->capture_default_str();
     command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)")
+        ->type_name("LENGTH")
         ->check(positive_number());
     CLI::Option* bounds =
-        command.add_option("--bounds", o.bounds, "minx,miny,minz,maxx,maxy,maxz to cover instead of the header bounds");
+        command
+            .add_option("--bounds", o.bounds, "The box to cover instead of the header bounds; not with --scan-bounds")
+            ->type_name("MINX,MINY,MINZ,MAXX,MAXY,MAXZ");
     command
         .add_flag("--scan-bounds", o.scan_bounds,
                   "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
-                  "then to grid them; files only, not standard input")
+                  "then to grid them; files only, not standard input; not with --bounds")
         ->excludes(bounds);
     command
         .add_option("--device", o.device,
                     "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
+        ->type_name("auto|INDEX|NAME")
         ->capture_default_str();
     command
         .add_option("--chunk-mb", o.chunk_mb,
                     "Largest slice of records uploaded at once, MiB (default 16, "
                     "always under the device's largest allocation)")
+        ->type_name("MIB")
         ->check(positive_number());
     command
         .add_option("--max-memory", o.max_memory_mb,
                     "Refuse grids needing more than this, MiB, host and device together")
+        ->type_name("MIB")
         ->check(positive_number());
 }
 

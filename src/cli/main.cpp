@@ -4,6 +4,7 @@
 // the signal thread (signals.cpp).
 #include "compare_command.hpp"
 #include "grid_command.hpp"
+#include "help_format.hpp"
 #include "info_command.hpp"
 #include "kernel_cache.hpp"
 #include "lasmesh/error.hpp"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
     const lasmesh::cli::KernelCache kernel_cache;
     CLI::App app{"lasmesh: turns LAS point clouds into small coloured triangle meshes"};
     app.set_version_flag("--version", std::string("lasmesh ") + LASMESH_VERSION);
+    app.formatter(std::make_shared<lasmesh::cli::HelpFormatter>()); // before the subcommands: they take it
     app.require_subcommand(0, 1);
     app.footer("Examples:\n"
                "  lasmesh deck.las -o deck.ply -o deck.drc          PLY to edit, Draco to share, one pass\n"
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
     info_command->add_flag("--json", info.json, "One JSON object instead of text");
     info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
     info_command->add_option("--chunk-points", info.chunk_points, "Records per read while scanning")
+        ->type_name("N")
         ->capture_default_str()
         ->check(lasmesh::cli::whole_number(1, std::uint64_t{1} << 30));
 
@@ -75,6 +78,9 @@ int main(int argc, char** argv) {
     CLI::App* compare_command = lasmesh::cli::add_compare_command(app, compare);
 
     CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
+    devices_command->footer(
+        "Examples:\n  lasmesh devices\n  lasmesh deck.las -o deck.glb --device 1      the second device listed\n"
+        "  lasmesh deck.las -o deck.glb --device nvidia the first whose name contains \"nvidia\"");
     // The build writes the man page from these declarations (hidden: not for users).
     std::string man_path;
     app.add_option("--man-page", man_path)->group("");

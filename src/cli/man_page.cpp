@@ -3,6 +3,8 @@
 // option carries: what lasmesh does, its output, its exit status.
 #include "man_page.hpp"
 
+#include "help_format.hpp"
+
 #include <sstream>
 
 namespace lasmesh::cli {
@@ -26,16 +28,6 @@ std::string roff(const std::string& text) {
     return out;
 }
 
-// The value an option takes, as --help shows it after the type: "sheet|closed", "0-10", or VALUE.
-std::string value_text(const CLI::Option& option) {
-    if (option.get_items_expected_max() == 0) return "";
-    const std::string type = option.get_type_name();
-    const std::size_t colon = type.find(':');
-    std::string value = colon == std::string::npos ? "VALUE" : type.substr(colon + 1);
-    if (value == "POSITIVE") value = "NUMBER";
-    return value;
-}
-
 void options_section(std::ostringstream& out, const CLI::App& app) {
     for (const CLI::Option* option : app.get_options()) {
         if (option->get_group().empty() || option->get_positional()) continue; // hidden, or the INPUT
@@ -44,9 +36,7 @@ void options_section(std::ostringstream& out, const CLI::App& app) {
             names.replace(comma, 1, ", ");
         out << ".TP\n\\fB" << roff(names) << "\\fR";
         if (const std::string value = value_text(*option); !value.empty()) out << " \\fI" << roff(value) << "\\fR";
-        out << "\n" << roff(option->get_description());
-        if (!option->get_default_str().empty()) out << " (default: " << roff(option->get_default_str()) << ")";
-        out << "\n";
+        out << "\n" << roff(description_text(*option)) << "\n";
     }
 }
 

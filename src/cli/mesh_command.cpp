@@ -39,45 +39,62 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)");
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
-                   ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression)");
+                   ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview)")
+        ->type_name("FILE");
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
+        ->type_name("N|auto")
         ->capture_default_str();
     app.add_option("--surface", o.surface,
                    "sheet: one open sheet through the points of each surface (accurate below the cell); "
                    "closed: a watertight surface around the occupied cells (solids, 3D printing)")
+        ->type_name("sheet|closed")
         ->capture_default_str()
         ->check(one_of({"sheet", "closed"}));
     app.add_option("--placement", o.placement,
                    "With --surface closed: vertices on the scanned surface (surface) or on the iso level set "
                    "as in classic marching cubes (iso)")
+        ->type_name("surface|iso")
         ->capture_default_str();
     app.add_option("--min-piece", o.min_piece,
                    "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
                    "whole mesh's diagonal (5%), a length in the file's units, or 0 to keep all")
+        ->type_name("P%|LENGTH")
         ->capture_default_str();
     app.add_option("--simplify", o.simplify,
                    "Simplify until the surface would move more than this: a length in the file's units, a "
-                   "fraction of a cell (0.5cell, the default), or 0 for none")
+                   "fraction of a cell (0.5cell), or 0 for none")
+        ->type_name("LENGTH|Fcell")
         ->capture_default_str();
     app.add_flag("--no-normals", o.no_normals, "No per-vertex normals in the outputs (they are on by default)");
     app.add_option("--glb-compression", o.glb_compression,
                    "none: a plain .glb every viewer opens; draco: smaller, for three.js and the web")
+        ->type_name("none|draco")
         ->capture_default_str();
     app.add_option("--glb-origin", o.glb_origin,
                    "Where the .glb keeps the world origin: extras (data only, the mesh stays local) or node "
                    "(also a node translation, for geo viewers; float32 in most)")
+        ->type_name("extras|node")
         ->capture_default_str();
     app.add_flag("--ascii", o.ascii, "Write ASCII PLY instead of binary");
     app.add_option("--draco-bits", o.draco.position_bits,
                    "Position quantization of .drc and .glb, in bits (default: the fewest whose step is at most a "
                    "tenth of a cell, 8 to 16); at most 24")
+        ->type_name("BITS")
         ->check(draco_bits_check());
     app.add_option("--draco-level", o.draco.level, "Draco compression level, 0 (fastest) to 10 (smallest)")
+        ->type_name("0-10")
         ->capture_default_str()
         ->check(whole_number(0, 10));
-    app.add_option("--threads", o.threads, "Threads for extraction (default: all cores)")->check(whole_number(1, 1024));
-    app.add_option("--report", o.report, "Also write the summary as JSON to this file (for pipelines)");
+    app.add_option("--threads", o.threads, "Threads for extraction and LAZ decoding, 1 to 1024 (default: all cores)")
+        ->type_name("N")
+        ->check(whole_number(1, 1024));
+    app.add_option("--report", o.report, "Also write the summary as JSON to this file (for pipelines)")
+        ->type_name("FILE.json");
+    app.add_option("--preview", o.preview,
+                   "Also write a picture of the mesh: four views (top, front, side, oblique) as PNG, for reports "
+                   "and people without a 3D viewer (as -o FILE.png)")
+        ->type_name("FILE.png");
     app.add_flag("-q,--quiet", o.quiet, "No progress line and no summary; errors only");
     app.add_flag("-v,--verbose", o.verbose, "Details of each stage as it ends");
 }
@@ -86,12 +103,19 @@ namespace {
 
 // The option text converted into the library's options; the library checks them (before reading).
 BuildOptions build_options(const MeshOptions& o) {
-    if (o.outputs.empty()) throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
+    if (o.outputs.empty() && o.preview.empty())
+        throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
     BuildOptions b;
     const GltfCompression glb_compression = parse_glb_compression(o.glb_compression);
     const GltfOrigin glb_origin = parse_glb_origin(o.glb_origin);
     for (const std::string& path : o.outputs)
         b.outputs.push_back({path, std::nullopt, o.ascii, o.draco, glb_compression, glb_origin});
+    if (!o.preview.empty()) {
+        OutputRequest preview;
+        preview.path = o.preview;
+        preview.format = MeshFormat::png;
+        b.outputs.push_back(preview);
+    }
     b.report = o.report;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;

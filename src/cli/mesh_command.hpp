@@ -25,9 +25,10 @@ struct MeshOptions {
     std::string glb_compression = "none";
     std::string glb_origin = "extras";
     bool ascii = false;
-    DracoOptions draco; // for .drc and .glb outputs
-    int threads = 0;    // 0: all cores
-    std::string report; // --report FILE.json
+    DracoOptions draco;  // for .drc and .glb outputs
+    int threads = 0;     // 0: all cores
+    std::string report;  // --report FILE.json
+    std::string preview; // --preview FILE.png
     bool quiet = false, verbose = false;
     bool progress = false; // draw a progress line (set when stderr is a terminal)
 };

@@ -10,6 +10,7 @@
 #include "io/output_file.hpp"
 #include "io/ply_reader.hpp"
 #include "io/ply_writer.hpp"
+#include "io/png_preview.hpp"
 #include "io/write_into.hpp"
 #include "lasmesh/error.hpp"
 
@@ -24,6 +25,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path) {
     if (ext == ".ply") return MeshFormat::ply;
     if (ext == ".drc") return MeshFormat::draco;
     if (ext == ".glb") return MeshFormat::glb;
+    if (ext == ".png") return MeshFormat::png;
     return std::nullopt;
 }
 
@@ -34,8 +36,10 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
     try {
         if (format == MeshFormat::draco)
             bytes = encode_draco(mesh, output.draco);
-        else
+        else if (format == MeshFormat::glb)
             bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
+        else
+            bytes = encode_png(render_preview(mesh));
     } catch (const Error& e) {
         throw Error(e.kind(), output.path + ": " + e.what());
     }
@@ -45,8 +49,8 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
 void write_mesh(const Mesh& mesh, const OutputRequest& output, const std::string& name) {
     const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
     if (!format)
-        throw Error(ErrorKind::usage, "\"" + output.path + "\": unknown mesh extension, expected .ply, .drc or .glb",
-                    "outputs");
+        throw Error(ErrorKind::usage,
+                    "\"" + output.path + "\": unknown mesh extension, expected .ply, .drc, .glb or .png", "outputs");
     if (*format != MeshFormat::ply && mesh.triangles.empty())
         throw Error(ErrorKind::output, output.path + ": the mesh has no triangles");
     OutputFile file(output.path);

@@ -87,7 +87,7 @@ expect "corrupt zstd" 2 'corrupt.las.zst: corrupt or truncated zstd stream' "$L 
 expect "empty stdin" 2 'standard input: is empty, expected a LAS file' "$L - < /dev/null"
 expect "directory" 2 'folder: is a directory, expected a LAS file' "$L folder"
 expect "missing file" 2 'missing.las: cannot open: No such file or directory' "$L missing.las"
-expect "unknown output extension" 1 'output "out.obj": unknown extension, expected .ply, .drc or .glb (-o)' "$L ok.las -o out.obj"
+expect "unknown output extension" 1 'output "out.obj": unknown extension, expected .ply, .drc, .glb or .png (-o)' "$L ok.las -o out.obj"
 # The output folder is checked before the input is opened: a missing input is not reported.
 expect "missing output folder" 4 'no/such/x.ply: the folder no/such does not exist' "$L missing.las -o no/such/x.ply"
 expect "output folder is a file" 4 'ok.las/x.ply: the folder ok.las does not exist' "$L ok.las -o ok.las/x.ply"
@@ -185,7 +185,7 @@ expect_exactly "compare: comment origin nan" 2 'nan-origin.ply: header line 3 (b
 
 # Hangs and crashes.
 # Offset 1e15 (one ulp: 0.125) and scale 1e-12: every raw value is 1e15 itself, and the cell-start
-# search used to walk 2^31 raw values per face. --bounds: header bounds like these are refused.
+# search must not walk 2^31 raw values per face (a hang). --bounds: header bounds like these are refused.
 patch ok.las far-offset.las 131 6d 1e-12 1e-12 1e-12 1e15 1e15 1e15
 timeout 60 "$lasmesh" grid far-offset.las --grid 16 --bounds 1e15,1e15,1e15,1000000000000000.125,1000000000000000.125,1000000000000000.125 > /dev/null 2> err.txt; rc=$?
 check "huge offset with one-ulp bounds: no hang (got $rc: $(head -c 200 err.txt))" test "$rc" -eq 0

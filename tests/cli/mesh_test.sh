@@ -27,6 +27,14 @@ check "--simplify 0: off" contains "$dir/summary0.txt" "^simplify       off"
 check "--simplify 0: more triangles" test "$(sed -n 's/^element face //p' "$dir/s0.ply" | head -1)" -gt "$(sed -n 's/^element face //p' "$dir/s.ply" | head -1)"
 check "--simplify 0 sphere PLY: closed, within a cell, exact colour" python3 "$here/ply_check.py" "$dir/s0.ply" "$lo" "$hi" 0.25 12,200,99
 
+# The preview: a PNG of the same run beside the mesh, its size as documented, the same bytes by -o.
+"$lasmesh" "$dir/s.las" -o "$dir/p.ply" --grid 40 --preview "$dir/p.png" 2> /dev/null
+"$lasmesh" "$dir/s.las" -o "$dir/p2.png" --grid 40 2> /dev/null
+check "--preview writes a PNG of 1600 x 1200" python3 -c "
+import struct, sys; d = open(sys.argv[1], 'rb').read(24)
+assert d[:8] == b'\x89PNG\r\n\x1a\n' and struct.unpack('>II', d[16:24]) == (1600, 1200), d" "$dir/p.png"
+check "--preview and -o FILE.png write the same picture" cmp -s "$dir/p.png" "$dir/p2.png"
+
 "$lasmesh" "$dir/s.las" -o "$dir/a.ply" --grid 40 --surface closed --ascii 2> /dev/null
 ply_faces() { sed -n 's/^element face //p' "$1" | head -1; }
 check "ASCII PLY reads the same" python3 "$here/ply_check.py" "$dir/a.ply" "$lo" "$hi" 0.25 12,200,99

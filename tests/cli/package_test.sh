@@ -14,7 +14,7 @@ deb=$(ls "$dir"/out/lasmesh_*.deb 2>/dev/null | head -1)
 check "one package, named by version and architecture" test -n "$deb"
 [ -n "$deb" ] || { finish "package"; exit; }
 dpkg-deb -f "$deb" Depends > "$dir/depends.txt"
-for library in libtbb libboost-iostreams libdraco ocl-icd-libopencl1 libstdc++6; do
+for library in libtbb libboost-iostreams libdraco libpng16-16 ocl-icd-libopencl1 libstdc++6; do
   check "depends on $library (from the linked libraries)" contains "$dir/depends.txt" "$library"
 done
 check "depends on an OpenCL driver" has "$dir/depends.txt" "pocl-opencl-icd | opencl-icd"
@@ -23,6 +23,11 @@ for path in ./usr/bin/lasmesh ./usr/share/man/man1/lasmesh.1 ./usr/share/doc/las
             ./usr/include/lasmesh/build_mesh.hpp ./usr/lib/cmake/lasmesh/lasmeshConfig.cmake; do
   check "the package holds $path" contains "$dir/contents.txt" " $path\$"
 done
+# What `apt install ./lasmesh_*.deb` would do here, simulated (no root needed, nothing changed):
+# every dependency resolves against Debian's packages.
+apt-get install -s --no-install-recommends "$deb" > "$dir/apt.txt" 2>&1
+check "apt resolves the package's dependencies (simulated install)" grep -q "^Inst lasmesh " "$dir/apt.txt" ||
+  tail -5 "$dir/apt.txt"
 dpkg-deb -x "$deb" "$dir/root"
 "$dir/root/usr/bin/lasmesh" --version > "$dir/version.txt"
 check "the packaged command runs" contains "$dir/version.txt" "^lasmesh $(dpkg-deb -f "$deb" Version)"
