@@ -92,8 +92,7 @@ void render_panel(const Mesh& mesh, const std::vector<V3>& normals, const View& 
                      static_cast<float>(y0 + 0.5 * h - (dot(q, view.up) - cy) * scale),
                      static_cast<float>(dot(q, view.forward))};
         const double intensity = 0.3 + 0.7 * std::abs(dot(normals[v], light));
-        for (int k = 0; k < 3; ++k)
-            shade[v][k] = static_cast<float>((colored ? mesh.colors[v][k] : 190) * intensity);
+        for (int k = 0; k < 3; ++k) shade[v][k] = static_cast<float>((colored ? mesh.colors[v][k] : 190) * intensity);
     }
     std::vector<float> depth(std::size_t(w) * h, std::numeric_limits<float>::infinity());
     for (const auto& t : mesh.triangles) {
@@ -143,7 +142,7 @@ PreviewImage render_preview(const Mesh& mesh, int width, int height) {
     const std::vector<V3> normals = vertex_normals(mesh);
     const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
     const std::array<View, 4> views{looking({0, 0, -1}), looking({0, 1, 0}), looking({-1, 0, 0}),
-                                     looking({c30 * M_SQRT1_2, c30 * M_SQRT1_2, -s30})};
+                                    looking({c30 * M_SQRT1_2, c30 * M_SQRT1_2, -s30})};
     // Each panel its own pixels: the same image for any thread count.
     tbb::parallel_for(0, 4, [&](int p) {
         render_panel(mesh, normals, views[p], image, (p % 2) * w + 1, (p / 2) * h + 1, w - 2, h - 2);
