@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstring>
+#include <utility>
 
 using namespace lasmesh;
 
@@ -38,7 +39,7 @@ TEST_CASE("preview: the top panel shows the surface in its colour, lit; edge-on 
     REQUIRE(image.rgb.size() == 400u * 300 * 3);
     // Top panel (top left, 200 x 150): its centre is the rectangle, red and lit (at least 30%).
     const auto centre = pixel(image, 100, 75);
-    CHECK(centre[0] > 66);
+    CHECK(centre[0] > 150); // facing the light: nearly fully lit
     CHECK(centre[0] > 3 * centre[1]);
     CHECK(centre[1] == centre[2]);
     CHECK(pixel(image, 5, 5) == std::array<int, 3>{255, 255, 255}); // the margin
@@ -49,6 +50,10 @@ TEST_CASE("preview: the top panel shows the surface in its colour, lit; edge-on 
     CHECK(covered < 190);
     // The front panel (top right) sees the flat rectangle edge-on: nothing to draw.
     CHECK(pixel(image, 300, 75) == std::array<int, 3>{255, 255, 255});
+    // Sheets are seen from both sides: the other winding (normals down) looks the same from above.
+    Mesh flipped = mesh;
+    for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+    CHECK(render_preview(flipped, 400, 300).rgb == image.rgb);
 }
 
 TEST_CASE("preview: the depth test keeps the surface nearest the viewer, whatever the drawing order") {

@@ -20,6 +20,10 @@ for command in "" info grid compare; do
   done
 done
 check "the man page has every option --help shows" test -z "$missing" || echo "missing from the man page:$missing"
+"$dir/prefix/bin/lasmesh" --help > "$dir/help.txt"
+check "--help shows value lists as users type them" has "$dir/help.txt" "--surface sheet|closed"
+check "... and no CLI11 type notes" lacks "$dir/help.txt" "POSITIVE"
+check "... nor exclusion notes" lacks "$dir/help.txt" "Excludes"
 check "the man page has each command's examples" grep -qF 'lasmesh compare deck.drc deck.las \-\-json' "$man"
 installed=$(cd "$dir/prefix/include/lasmesh" && ls)
 check "the public headers are installed, and only they" test "$installed" = "$(cd "$source/include/lasmesh" && ls)"
