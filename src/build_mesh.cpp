@@ -52,14 +52,6 @@ std::uint64_t peak_rss_bytes() {
     return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024; // Linux reports kilobytes
 }
 
-// The real bounds of a file's points, for a second, gridding pass. A pipe's bytes are gone
-// after one pass, so only a regular file can be scanned.
-Bounds scanned_bounds(const std::string& input) {
-    LasReader reader(input); // a regular file: check_options made sure
-    const ScanResult scan = scan_points(reader);
-    return {scan.min, scan.max};
-}
-
 // The name of the .glb's scene, node, mesh and material: the input's file name without extension.
 std::string mesh_name(const std::string& input) {
     const std::string stem = std::filesystem::path(input).stem().string();
@@ -205,9 +197,7 @@ std::vector<MeshFormat> check_options(const std::string& input, const BuildOptio
     for (const OutputRequest& output : o.outputs) paths.emplace_back("the output", output.path);
     if (!o.report.empty()) paths.emplace_back("the report", o.report);
     check_distinct_files(paths);
-    if (o.scan_bounds && (input == "-" || !std::filesystem::is_regular_file(input)))
-        usage_error("scan_bounds",
-                    "scanning the bounds reads the input twice, so it needs a regular file, not \"" + input + "\"");
+    if (o.scan_bounds) check_rereadable(input);
     if (o.surface == SurfaceKind::sheet && o.placement != VertexPlacement::surface)
         usage_error("placement",
                     "vertices on the iso level are for the closed surface only: the sheet places them on the points");
@@ -235,7 +225,12 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const auto start = std::chrono::steady_clock::now();
     AccumulateOptions accumulate;
     accumulate.grid = o.grid;
-    accumulate.bounds = o.scan_bounds ? std::optional<Bounds>(scanned_bounds(input)) : o.bounds;
+    if (o.scan_bounds) {
+        const ScanResult scan = scan_file(input);
+        accumulate.bounds = Bounds{scan.min, scan.max};
+    } else {
+        accumulate.bounds = o.bounds;
+    }
     accumulate.slice_bytes = o.slice_bytes;
     accumulate.max_memory = o.max_memory;
     LasReader reader(input);

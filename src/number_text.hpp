@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -39,6 +40,15 @@ inline std::string significant(double value, int digits) {
     }
     text << std::setprecision(digits) << value;
     return text.str();
+}
+
+// A coordinate to the decimals that resolve `step` (at least one): a grid's origin to a
+// thousandth of its cell (431249.9043 for cells of 0.12), where all 17 digits would only hide it.
+inline std::string coordinate(double value, double step) {
+    const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(step))), 1, 12);
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+    return text;
 }
 
 // Four significant digits, for lengths and other measured values people read (0.1191, 977.5).

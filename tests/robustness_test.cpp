@@ -240,4 +240,8 @@ TEST_CASE("numbers for people: significant digits, no exponent where none is nee
     CHECK(significant(796931, 3) == "797000");
     CHECK(four_digits(1e301) == "1e+301");
     CHECK(four_digits(1e-9) == "1e-09");
+    // Coordinates: to the decimals of the step asked for, at least one.
+    CHECK(coordinate(431249.90434389235, 0.1193 / 1000) == "431249.9043");
+    CHECK(coordinate(-2.0599999999999996, 0.01) == "-2.06");
+    CHECK(coordinate(6700199.889645642, 5.0) == "6700199.9");
 }

@@ -5,6 +5,7 @@
 #include "io/json.hpp"
 #include "number_text.hpp"
 #include "read/input_stream.hpp"
+#include "read/las_scan.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -20,7 +21,10 @@ void run_devices(std::ostream& out) {
 
 void run_grid(const GridCommandOptions& options, std::ostream& out) {
     AccumulateOptions accumulate = accumulate_options(options.grid);
-    if (options.grid.scan_bounds) accumulate.bounds = scan_bounds(options.input);
+    if (options.grid.scan_bounds) {
+        const ScanResult scan = scan_file(options.input);
+        accumulate.bounds = Bounds{scan.min, scan.max};
+    }
     LasReader reader(options.input);
     if (!accumulate.bounds) check_header_bounds_usable(reader.header(), reader.stream().name());
     ComputeDevice device(options.grid.device);
@@ -55,8 +59,9 @@ void run_grid(const GridCommandOptions& options, std::ostream& out) {
         << "grid                 " << grid.spec.dims[0] << " x " << grid.spec.dims[1] << " x " << grid.spec.dims[2]
         << " cells of " << four_digits(grid.spec.cell_size)
         << (grid.grid_reason.empty() ? "" : " (" + grid.grid_reason + ")") << "\n"
-        << "origin               " << format_double(grid.spec.origin[0]) << " " << format_double(grid.spec.origin[1])
-        << " " << format_double(grid.spec.origin[2]) << "\n"
+        << "origin               " << coordinate(grid.spec.origin[0], grid.spec.cell_size / 1000) << " "
+        << coordinate(grid.spec.origin[1], grid.spec.cell_size / 1000) << " "
+        << coordinate(grid.spec.origin[2], grid.spec.cell_size / 1000) << "\n"
         << "points read          " << grid.points_read << "\n"
         << "points outside grid  " << grid.points_outside << " (" << std::fixed << std::setprecision(3)
         << 100 * outside_share << "%)\n"

@@ -61,20 +61,6 @@ AccumulateOptions accumulate_options(const GridOptions& o) {
     return a;
 }
 
-void check_scan_bounds_input(const std::string& input) {
-    // A regular file can be opened again for the second pass; a pipe's bytes are gone.
-    if (input == "-" || !std::filesystem::is_regular_file(input))
-        throw Error(ErrorKind::usage, "--scan-bounds reads the input twice, so it needs a regular file, not \"" +
-                                          input + "\": save the stream to a file, or give --bounds");
-}
-
-Bounds scan_bounds(const std::string& input) {
-    check_scan_bounds_input(input);
-    LasReader reader(input);
-    const ScanResult scan = scan_points(reader);
-    return {scan.min, scan.max};
-}
-
 std::string outside_advice(std::uint64_t points_outside, std::uint64_t points_read) {
     if (points_outside == 0) return "";
     return "warning: " + std::to_string(points_outside) + " of " + std::to_string(points_read) +

@@ -27,14 +27,6 @@ void add_grid_options(CLI::App& command, GridOptions& options);
 // default GridRequest, which accumulate_cells resolves from the data.
 AccumulateOptions accumulate_options(const GridOptions& options);
 
-// --scan-bounds: the bounds of the points of `input` found by reading it once (scan_points), for
-// a second, gridding pass. Throws Error (usage) for standard input or a pipe, which cannot be read
-// twice.
-Bounds scan_bounds(const std::string& input);
-// The check scan_bounds makes first, alone: for a command that leaves the scan to the library
-// but wants the error to name the option.
-void check_scan_bounds_input(const std::string& input);
-
 // A line advising --scan-bounds or --bounds when points fell outside the grid; empty otherwise.
 std::string outside_advice(std::uint64_t points_outside, std::uint64_t points_read);
 

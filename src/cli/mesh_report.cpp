@@ -39,8 +39,10 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "occupied       " << r.occupied_cells << " cells in " << r.occupied_bricks << " bricks of "
             << CellGrid::brick_cells << ", " << megabytes(r.pool_bytes) << " of grid on the device, "
             << megabytes(r.host_grid_bytes) << " on the host\n"
-            << "origin         " << format_double(r.origin[0]) << " " << format_double(r.origin[1]) << " "
-            << format_double(r.origin[2]) << " (output positions are relative to it)\n"
+            << "origin         " << coordinate(r.origin[0], r.grid.cell_size / 1000) << " "
+            << coordinate(r.origin[1], r.grid.cell_size / 1000) << " "
+            << coordinate(r.origin[2], r.grid.cell_size / 1000)
+            << " (output positions are relative to it; exact in each file and in --report)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
             << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : " (in the file's units)") << "\n"

@@ -3,6 +3,10 @@
 // cores scan one chunk while the next is read.
 #include "read/las_scan.hpp"
 
+#include "lasmesh/error.hpp"
+
+#include <filesystem>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_group.h>
@@ -106,6 +110,20 @@ ScanResult scan_points(LasReader& reader, std::size_t chunk_records) {
         result.color_max = all.color_max;
     }
     return result;
+}
+
+void check_rereadable(const std::string& input) {
+    if (input == "-" || !std::filesystem::is_regular_file(input))
+        throw Error(ErrorKind::usage,
+                    "scanning the bounds reads the input twice, so it needs a regular file, not \"" + input +
+                        "\": save the stream to a file, or give the bounds",
+                    "scan_bounds");
+}
+
+ScanResult scan_file(const std::string& input) {
+    check_rereadable(input);
+    LasReader reader(input);
+    return scan_points(reader);
 }
 
 } // namespace lasmesh

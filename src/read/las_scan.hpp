@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace lasmesh {
 
@@ -22,5 +23,11 @@ struct ScanResult {
 
 // Reads every remaining record of `reader` in chunks of at most `chunk_records` records.
 ScanResult scan_points(LasReader& reader, std::size_t chunk_records = 1 << 16);
+
+// A scan for the real bounds, before a second pass grids the file: throws Error (usage, option
+// "scan_bounds") unless `input` is a regular file (a pipe's bytes are gone after one pass).
+// check_rereadable makes that check alone, before anything is read.
+void check_rereadable(const std::string& input);
+ScanResult scan_file(const std::string& input);
 
 } // namespace lasmesh

@@ -16,6 +16,16 @@ import json, sys
 s = json.load(sys.stdin)["scanned"]["bounds"]
 print(",".join(map(str, s["min"])), ",".join(map(str, s["max"])))'; }
 
+# shows_origin SUMMARY X,Y,Z: the summary's origin line gives the origin to the decimals it prints
+# (a thousandth of a cell or finer), and prints at least one.
+shows_origin() { python3 -c '
+import re, sys
+line = next(l for l in open(sys.argv[1]) if l.startswith("origin "))
+shown = line.split()[1:4]
+assert all("." in s for s in shown), shown
+for s, exact in zip(shown, map(float, sys.argv[2].split(","))):
+    assert abs(float(s) - exact) <= 0.5 * 10 ** -len(s.split(".")[1]) * (1 + 1e-9), (s, exact)' "$1" "$2"; }
+
 # finish NAME: prints the tally; the script's exit status is whether every check passed.
 finish() {
   echo "$1: $passed passed, $failed failed"

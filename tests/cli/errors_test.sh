@@ -111,7 +111,7 @@ expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
   "OCL_ICD_VENDORS=$dir/folder $L ok.las"
-expect "--scan-bounds on a pipe" 1 'scanning the bounds reads the input twice, so it needs a regular file, not "-" (--scan-bounds)' "cat ok.las | $L - --scan-bounds"
+expect "--scan-bounds on a pipe" 1 'scanning the bounds reads the input twice, so it needs a regular file, not "-": save the stream to a file, or give the bounds (--scan-bounds)' "cat ok.las | $L - --scan-bounds"
 # The kernel build failure (the build log in the message) cannot be caused from the command line:
 # tests/accumulate_test.cpp builds a broken kernel through the same function.
 
