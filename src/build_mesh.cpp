@@ -14,6 +14,7 @@
 #include "lasmesh/normals.hpp"
 #include "mesh/marching_cubes.hpp"
 #include "mesh/surface_sheet.hpp"
+#include "read/crs.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_scan.hpp"
 
@@ -240,6 +241,26 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
         throw_input_error(reader.stream().name(),
                           "the header promises no point records (point count 0): nothing to mesh");
     if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
+    if (const std::optional<CrsInfo> crs = read_crs(header)) {
+        // Cubic cells need one unit on every axis: degrees of longitude and latitude are neither
+        // the same length as each other nor as the metres of z. Files that declare degrees but
+        // hold other numbers (writers copy a CRS they did not use) are meshed in their units.
+        const bool in_degrees =
+            header.min[0] >= -180 && header.max[0] <= 360 && header.min[1] >= -90 && header.max[1] <= 90;
+        if (crs->geographic() && in_degrees)
+            throw_input_error(reader.stream().name(), "its x and y are longitude and latitude in degrees (" +
+                                                          crs_summary(*crs) +
+                                                          "): cells must be cubes in one unit, so project the file "
+                                                          "to a projected CRS in metres or feet first");
+        if (crs->geographic()) {
+            r.warnings.push_back("warning: " + reader.stream().name() + " declares " + crs_summary(*crs) +
+                                 ", but its x and y are not longitudes and latitudes: the declaration is wrong, "
+                                 "and neither it nor any CRS is recorded in the outputs");
+        } else {
+            r.crs = crs_summary(*crs);
+            if (crs->identified()) r.crs_recorded = crs_for_outputs(*crs);
+        }
+    }
     ComputeDevice device(o.device);
     r.input = reader.stream().name();
     r.device = device.info().name;
@@ -316,6 +337,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.vertices = mesh.positions.size(), r.triangles = mesh.triangles.size(), r.colored = !mesh.colors.empty();
     r.normals = !mesh.normals.empty();
     r.origin = mesh.origin;
+    mesh.crs = r.crs_recorded;
     watch.stage_ended(BuildStage::extract, r);
 
     // Every output into its temporary file first, then all renamed: all of them or none.

@@ -12,7 +12,7 @@ packages=(
   # libraries: LAS streams, parallelism, command line, tests, JSON (command line only), OpenCL, Draco
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
-  libdraco-dev draco libpng-dev
+  libdraco-dev draco libpng-dev libproj-dev
 )
 # What only the tests and benchmarks use.
 test_packages=(

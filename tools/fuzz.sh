@@ -14,7 +14,8 @@ mkdir -p "$out/seeds" "$out/corpus" "$out/artifacts"
 # Compiled directly (no CMake): the target needs only the reading sources and Boost.Iostreams.
 sources=(tools/fuzz/fuzz_las.cpp src/error.cpp src/read/input_stream.cpp src/read/las_header.cpp src/read/las_reader.cpp
          src/read/las_scan.cpp src/read/arithmetic_decoder.cpp src/read/laz_vlr.cpp src/read/laz_items_v2.cpp
-         src/read/laz_pointwise.cpp src/read/laz_layered.cpp src/read/laz_chunks.cpp src/read/laz_decoder.cpp)
+         src/read/laz_pointwise.cpp src/read/laz_layered.cpp src/read/laz_chunks.cpp src/read/laz_decoder.cpp
+         src/read/crs.cpp)
 if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out/fuzz_las" | head -1)" ]; then
   # One object per source, compiled in parallel, then linked.
   flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
@@ -29,7 +30,7 @@ if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out
     if [ ${#running[@]} -ge "$(nproc)" ]; then wait "${running[0]}"; running=("${running[@]:1}"); fi # set -e: a failure stops here
   done
   for pid in "${running[@]}"; do wait "$pid"; done
-  clang++-14 "${flags[@]}" "${objects[@]}" -lboost_iostreams -ltbb -o "$out/fuzz_las"
+  clang++-14 "${flags[@]}" "${objects[@]}" -lboost_iostreams -ltbb -lproj -o "$out/fuzz_las"
 fi
 
 # Seeds: small valid files of every version and point format, some with extra bytes, and the
@@ -46,6 +47,7 @@ for version in 1.0 1.1 1.2 1.3 1.4; do
   done
 done
 "$lasgen" --scene box --points 20 --format 2 --extra-bytes 5 -o "$out/seeds/extra.las"
+"$lasgen" --scene box --points 20 --epsg 32631 -o "$out/seeds/crs.las" # GeoTIFF keys for read_crs
 gzip -c "$out/seeds/v1.2-f3.las" > "$out/seeds/v1.2-f3.las.gz"
 bzip2 -c "$out/seeds/v1.4-f7.las" > "$out/seeds/v1.4-f7.las.bz2"
 xz -c "$out/seeds/v1.3-f1.las" > "$out/seeds/v1.3-f1.las.xz"

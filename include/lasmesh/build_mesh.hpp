@@ -86,6 +86,10 @@ struct RunReport {
     std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
     std::string grid_reason; // why this grid, when it was chosen from the data; empty otherwise
+    // The input's coordinate system in one line ("NAD83 / Oregon GIC Lambert (ft) (EPSG:2992),
+    // projected, in foot (0.3048 m)"), what the outputs record of it ("EPSG:2992", or a WKT),
+    // both empty when the input declares none: the mesh is then in the file's own units.
+    std::string crs, crs_recorded;
     double iso = 0;
     bool iso_auto = false;
     SurfaceKind surface = SurfaceKind::sheet;

@@ -33,7 +33,7 @@ struct Vlr {
     std::uint16_t record_id = 0;
     std::uint16_t length = 0;    // payload bytes after the 54-byte VLR header
     std::string description;     // up to 32 characters, trailing NULs removed
-    std::vector<std::byte> data; // the payload, kept only for the LASzip VLR
+    std::vector<std::byte> data; // the payload, kept for the LASzip and the coordinate system's VLRs
 };
 
 struct LasHeader {

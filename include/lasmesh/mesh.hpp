@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace lasmesh {
@@ -18,6 +19,9 @@ struct Mesh {
     // Edge of the grid cell the mesh was extracted at (0: unknown). Output precision and the
     // distances of `lasmesh compare` are judged against it.
     double cell_size = 0;
+    // The coordinate system of `origin` and the positions, as the input declared it: "EPSG:2992",
+    // or a WKT when it has no EPSG code; empty when unknown. Every output records it.
+    std::string crs;
     std::vector<std::array<float, 3>> positions;
     std::vector<std::array<std::uint8_t, 3>> colors; // one per vertex, or empty: no colour
     // Unit normals, one per vertex, or empty. They point to the side the triangles face

@@ -4,6 +4,7 @@
 
 #include "io/json.hpp"
 #include "lasmesh/las_reader.hpp"
+#include "read/crs.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_scan.hpp"
 
@@ -68,6 +69,11 @@ std::string records_text(const LasHeader& h) {
                       : "LAZ (LASzip-compressed)";
 }
 
+std::string crs_line(const LasHeader& h) {
+    const std::optional<CrsInfo> crs = read_crs(h);
+    return crs ? crs_summary(*crs) : "none declared (coordinates in the file's own units)";
+}
+
 void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
     Json json;
     json["version"] = version_string(h);
@@ -79,6 +85,20 @@ void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::
     json["offset"] = h.offset;
     json["bounds"] = {{"min", h.min}, {"max", h.max}};
     json["has_color"] = has_color(h);
+    if (const std::optional<CrsInfo> crs = read_crs(h))
+        json["crs"] = {{"source", crs->source},
+                       {"name", crs->name},
+                       {"code", crs->code},
+                       {"kind", crs->kind},
+                       {"unit", crs->unit},
+                       {"unit_metres", crs->unit_metres},
+                       {"vertical", crs->vertical},
+                       {"vertical_unit", crs->vertical_unit},
+                       {"vertical_unit_metres", crs->vertical_unit_metres},
+                       {"wkt", crs->wkt},
+                       {"problem", crs->problem}};
+    else
+        json["crs"] = nullptr;
     json["vlrs"] = Json::array();
     for (const Vlr& vlr : h.vlrs)
         json["vlrs"].push_back({{"user_id", latin1_to_utf8(vlr.user_id)},
@@ -105,9 +125,9 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
         << "\npoint count          " << h.point_count << "\nhas color            " << (has_color(h) ? "yes" : "no")
         << "\nscale                " << join(h.scale) << "\noffset               " << join(h.offset)
         << "\nbounds min           " << join_scaled(h.min, h.scale) << "\nbounds max           "
-        << join_scaled(h.max, h.scale) << "\nsystem identifier    " << escaped(h.system_identifier)
-        << "\ngenerating software  " << escaped(h.generating_software) << "\nVLRs                 " << h.vlrs.size()
-        << '\n';
+        << join_scaled(h.max, h.scale) << "\ncrs                  " << crs_line(h) << "\nsystem identifier    "
+        << escaped(h.system_identifier) << "\ngenerating software  " << escaped(h.generating_software)
+        << "\nVLRs                 " << h.vlrs.size() << '\n';
     for (const Vlr& vlr : h.vlrs)
         out << "  " << escaped(vlr.user_id) << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
             << escaped(vlr.description) << '\n';

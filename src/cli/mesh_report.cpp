@@ -29,6 +29,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
     summary << std::setprecision(6) << "input          " << r.input << "\n"
             << "device         " << r.device << "\n"
             << "points         " << r.points_read << " read, " << r.points_outside << " outside the grid\n"
+            << "crs            " << (r.crs.empty() ? "none declared: the mesh is in the file's own units" : r.crs)
+            << "\n"
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
             << four_digits(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
             << "iso            " << four_digits(r.iso) << (r.iso_auto ? " (auto)" : "") << " points per cell, "

@@ -61,6 +61,7 @@ Mesh to_mesh(const draco::Mesh& in, const draco::PointAttribute* position, const
         if (metadata->GetEntryDoubleArray(draco_origin_entry, &origin) && origin.size() == 3)
             mesh.origin = {origin[0], origin[1], origin[2]};
         metadata->GetEntryDouble(draco_cell_size_entry, &mesh.cell_size);
+        metadata->GetEntryString(draco_crs_entry, &mesh.crs);
     }
     return mesh;
 }

@@ -99,6 +99,7 @@ std::string encode_draco(const Mesh& mesh, const DracoOptions& options, DracoCol
     metadata->AddEntryDoubleArray(draco_origin_entry, {mesh.origin[0], mesh.origin[1], mesh.origin[2]});
     for (int a = 0; a < 3; ++a) metadata->AddEntryDouble(draco_origin_axis_entries[a], mesh.origin[a]);
     if (mesh.cell_size > 0) metadata->AddEntryDouble(draco_cell_size_entry, mesh.cell_size);
+    if (!mesh.crs.empty()) metadata->AddEntryString(draco_crs_entry, mesh.crs);
     out.AddMetadata(std::move(metadata));
 
     draco::Encoder encoder;

@@ -17,6 +17,7 @@ namespace lasmesh {
 inline constexpr const char* draco_origin_entry = "origin";
 inline constexpr const char* draco_origin_axis_entries[3] = {"origin_x", "origin_y", "origin_z"};
 inline constexpr const char* draco_cell_size_entry = "cell_size";
+inline constexpr const char* draco_crs_entry = "crs"; // Mesh::crs, when known
 
 // Unique ids of the attributes in every stream lasmesh writes (the .glb's extension names them).
 inline constexpr int draco_position_id = 0;

@@ -155,6 +155,7 @@ Mesh read_glb(const std::string& path) {
             if (o.size() != 3) throw std::out_of_range("the node's extras.origin is not 3 numbers");
             mesh.origin = {o[0], o[1], o[2]};
             mesh.cell_size = node.at("extras").value("cell_size", 0.0);
+            mesh.crs = node.at("extras").value("crs", std::string());
             return mesh;
         }
         const std::vector<double> t =

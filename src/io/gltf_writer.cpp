@@ -152,6 +152,7 @@ std::string gltf_json(const Mesh& mesh, const GltfOptions& options, const Layout
     const Json gltf_origin = {o[0], o[2], -o[1]};
     Json extras = {{"origin", {o[0], o[1], o[2]}}, {"origin_gltf", gltf_origin}};
     if (mesh.cell_size > 0) extras["cell_size"] = mesh.cell_size;
+    if (!mesh.crs.empty()) extras["crs"] = mesh.crs;
     // The name comes from a file name: bytes that are not UTF-8 are read as Latin-1 (glTF's JSON
     // must be UTF-8), so "d\xe9ck" is "déck".
     const std::string name = utf8_or_latin1(options.name);

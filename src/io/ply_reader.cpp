@@ -226,6 +226,10 @@ Mesh read_ply(const std::string& path) {
                 throw bad("expected \"comment origin X Y Z\" with three finite numbers");
             if (what == "cell_size" && !(finite(mesh.cell_size) && mesh.cell_size >= 0))
                 throw bad("expected \"comment cell_size C\" with a finite number >= 0");
+            if (what == "crs") {
+                std::getline(words >> std::ws, mesh.crs);
+                if (!mesh.crs.empty() && mesh.crs.back() == '\r') mesh.crs.pop_back();
+            }
         } else if (keyword != "obj_info" && !keyword.empty()) {
             throw bad("unknown header keyword");
         }

@@ -25,6 +25,7 @@ std::string header(const Mesh& mesh, bool ascii) {
     h += "comment origin " + shortest(mesh.origin[0]) + " " + shortest(mesh.origin[1]) + " " +
          shortest(mesh.origin[2]) + "\n";
     if (mesh.cell_size > 0) h += "comment cell_size " + shortest(mesh.cell_size) + "\n";
+    if (!mesh.crs.empty()) h += "comment crs " + mesh.crs + "\n";
     h += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
     h += "property float x\nproperty float y\nproperty float z\n";
     if (!mesh.normals.empty()) h += "property float nx\nproperty float ny\nproperty float nz\n";

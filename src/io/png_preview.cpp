@@ -16,7 +16,8 @@
 
 namespace lasmesh {
 
-namespace {
+// Named, not anonymous: a unity build puts this file beside others with their own vector helpers.
+namespace preview {
 
 using V3 = std::array<double, 3>;
 
@@ -126,7 +127,7 @@ void render_panel(const Mesh& mesh, const std::vector<V3>& normals, const View& 
     }
 }
 
-} // namespace
+} // namespace preview
 
 PreviewImage render_preview(const Mesh& mesh, int width, int height) {
     PreviewImage image;
@@ -139,6 +140,7 @@ PreviewImage render_preview(const Mesh& mesh, int width, int height) {
         for (int x = w - 1; x <= w; ++x) std::fill_n(&image.rgb[(std::size_t(y) * width + x) * 3], 3, 200);
     for (int y = h - 1; y <= h; ++y) std::fill_n(&image.rgb[std::size_t(y) * width * 3], std::size_t(width) * 3, 200);
     if (mesh.triangles.empty()) return image;
+    using namespace preview;
     const std::vector<V3> normals = vertex_normals(mesh);
     const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
     const std::array<View, 4> views{looking({0, 0, -1}), looking({0, 1, 0}), looking({-1, 0, 0}),

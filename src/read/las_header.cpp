@@ -208,12 +208,15 @@ LasHeader read_las_header(InputStream& in) {
                                " bytes at byte " + std::to_string(at + vlr_header_size) +
                                ") runs past the offset to point data " + std::to_string(h.offset_to_point_data));
         const bool laszip = vlr.user_id == laszip_user_id && vlr.record_id == laszip_record_id;
-        if (laszip) {
+        // The coordinate system (read_crs): the WKT and the GeoTIFF keys, doubles and text.
+        const bool projection = vlr.user_id == "LASF_Projection" &&
+                                (vlr.record_id == 2112 || (vlr.record_id >= 34735 && vlr.record_id <= 34737));
+        if (laszip || projection) {
             vlr.data.resize(vlr.length);
             if (in.read(vlr.data.data(), vlr.length) < vlr.length)
                 throw_input_error(in.name(),
                                   "ends inside VLR " + std::to_string(i) + " at byte " + std::to_string(in.position()));
-            h.compressed = true;
+            h.compressed = h.compressed || laszip;
         } else if (in.skip(vlr.length) < vlr.length)
             throw_input_error(in.name(),
                               "ends inside VLR " + std::to_string(i) + " at byte " + std::to_string(in.position()));

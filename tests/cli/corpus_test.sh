@@ -16,9 +16,8 @@ corpus=${LASMESH_SHARED:-$source_dir/../shared}/data/las
 laz=$corpus/../laz
 
 # Only a non-empty mesh is asked of: random points filling a volume (loaders.gl's pdrf6-10
-# fixtures), where there is no surface to find; and PDAL's epsg_4326, degrees across and metres
-# up, where no cubic cell fits both (its grid is 1 x 1 x 724).
-no_surface='pdrf(6|8|9|10)-1\.4|epsg_4326'
+# fixtures), where there is no surface to find.
+no_surface='pdrf(6|8|9|10)-1\.4'
 
 for las in "$corpus"/*.las; do
   name=$(basename "$las" .las)
@@ -27,6 +26,17 @@ for las in "$corpus"/*.las; do
     "$lasmesh" "$las" -o "$dir/$name.ply" -q 2> "$dir/err.txt"; rc=$?
     check "$name ($points points): exit 2 (got $rc)" test "$rc" -eq 2
     [ "$points" -eq 0 ] || check "$name: names the option to try" has "$dir/err.txt" "--grid"
+    continue
+  fi
+  # A file in degrees (its CRS geographic, its x and y longitudes and latitudes) is refused.
+  degrees=$("$lasmesh" info --json "$las" | python3 -c '
+import json, sys
+j = json.load(sys.stdin); lo, hi = j["bounds"]["min"], j["bounds"]["max"]
+print(int(bool(j["crs"]) and j["crs"]["kind"] == "geographic" and lo[0] >= -180 and hi[0] <= 360 and lo[1] >= -90 and hi[1] <= 90))')
+  if [ "$degrees" = 1 ]; then
+    "$lasmesh" "$las" -o "$dir/$name.ply" -q 2> "$dir/err.txt"; rc=$?
+    check "$name: in degrees, refused (exit 2, got $rc)" test "$rc" -eq 2
+    check "$name: ... saying so" has "$dir/err.txt" "longitude and latitude in degrees"
     continue
   fi
   options=()

@@ -13,7 +13,8 @@ check "json has the documented keys" python3 -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert set(d) == {"version", "records", "point_format", "point_record_length", "point_count", "scale", "offset",
-                  "bounds", "has_color", "vlrs", "scanned"}, sorted(d)
+                  "bounds", "has_color", "crs", "vlrs", "scanned"}, sorted(d)
+assert d["crs"] is None, d["crs"]
 assert d["records"] == "las", d["records"]
 assert d["version"] == "1.4" and d["point_format"] == 7 and d["point_count"] == 30000
 assert d["scanned"]["point_count"] == 30000 and d["has_color"] is True
@@ -64,4 +65,27 @@ check "version" contains "$dir/version.txt" "lasmesh "
 # gigabyte of address space (a batch of 2^18 of them took 17 GB).
 (ulimit -v 1000000; "$lasgen" --scene sphere --points 100 --extra-bytes 65501 -o "$dir/long.las")
 check "lasgen: 100 records of 65,535 bytes within 1 GB of address space" test "$(stat -c %s "$dir/long.las" 2> /dev/null)" -gt 6500000
+# Coordinate systems: named with their EPSG code and unit, in text and JSON; meshing records them
+# in the outputs and refuses degrees.
+"$lasgen" --scene box --points 2000 --epsg 32631 --origin 431250,6700200,10 -o "$dir/utm.las"
+"$lasmesh" info "$dir/utm.las" > "$dir/utm.txt"
+check "info names the CRS" has "$dir/utm.txt" "crs                  WGS 84 / UTM zone 31N (EPSG:32631), projected, in metre"
+"$lasmesh" info "$dir/t.las" > "$dir/none.txt"
+check "info says when there is none" has "$dir/none.txt" "crs                  none declared"
+check "info --json gives the CRS's parts" python3 -c '
+import json, sys
+c = json.load(sys.stdin)["crs"]
+assert (c["code"], c["kind"], c["unit"], c["unit_metres"], c["source"]) == ("EPSG:32631", "projected", "metre", 1.0, "GeoTIFF keys"), c
+assert "UTM zone 31N" in c["wkt"], c' < <("$lasmesh" info --json "$dir/utm.las")
+"$lasgen" --scene box --points 2000 --epsg 2992 --origin 7600000,700000,100 -o "$dir/ft.las"
+check "feet are named with their length" contains <("$lasmesh" info "$dir/ft.las") "in foot (0.3048 m)"
+"$lasmesh" "$dir/utm.las" -o "$dir/utm.ply" --ascii --grid 32 2> "$dir/utm-summary.txt"
+check "the PLY records the CRS" has "$dir/utm.ply" "comment crs EPSG:32631"
+check "the summary names it" has "$dir/utm-summary.txt" "crs            WGS 84 / UTM zone 31N (EPSG:32631)"
+"$lasgen" --scene box --points 2000 --epsg 4326 --origin 5,60,10 --size 0.01 -o "$dir/deg.las"
+"$lasmesh" "$dir/deg.las" -o "$dir/deg.ply" 2> "$dir/deg.txt"; rc=$?
+check "degrees are refused (exit 2)" test "$rc" -eq 2
+check "... saying why" has "$dir/deg.txt" "longitude and latitude in degrees (WGS 84 (EPSG:4326), geographic, in degree)"
+check "... and nothing is written" test ! -e "$dir/deg.ply"
+
 finish "cli info"

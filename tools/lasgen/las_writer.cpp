@@ -43,7 +43,8 @@ std::vector<std::byte> las_file_head(const LasLayout& l, std::uint64_t point_cou
                                      const std::string& description) {
     validate_layout(l);
     const std::uint16_t header_size = lasmesh::minimum_header_size(l.version_minor);
-    const std::size_t vlr_size = 54 + description.size();
+    const std::size_t geo_keys_size = l.epsg ? 54 + 24 : 0; // header and two keys, 4 shorts each
+    const std::size_t vlr_size = 54 + description.size() + geo_keys_size;
     const std::size_t start_signature = l.version_minor == 0 ? 2 : 0;
     std::vector<std::byte> head(header_size + vlr_size + start_signature);
     std::byte* h = head.data();
@@ -59,7 +60,7 @@ std::vector<std::byte> las_file_head(const LasLayout& l, std::uint64_t point_cou
     store_le<std::uint16_t>(h + 92, 2026); // creation year
     store_le<std::uint16_t>(h + 94, header_size);
     store_le<std::uint32_t>(h + 96, static_cast<std::uint32_t>(head.size()));
-    store_le<std::uint32_t>(h + 100, 1);
+    store_le<std::uint32_t>(h + 100, l.epsg ? 2 : 1);
     h[104] = static_cast<std::byte>(l.point_format);
     store_le<std::uint16_t>(h + 105, record_length(l));
     // LAS 1.4 keeps the legacy counts at 0 for formats 6-10 and for counts beyond 32 bits.
@@ -84,6 +85,27 @@ std::vector<std::byte> las_file_head(const LasLayout& l, std::uint64_t point_cou
     store_le<std::uint16_t>(vlr + 20, static_cast<std::uint16_t>(description.size()));
     put_string(vlr + 22, "lasgen scene", 32);
     put_string(vlr + 54, description, description.size());
+    if (l.epsg) {
+        const bool geographic = l.epsg >= 4000 && l.epsg < 5000;
+        std::byte* keys = vlr + 54 + description.size();
+        put_string(keys + 2, "LASF_Projection", 16);
+        store_le<std::uint16_t>(keys + 18, 34735);
+        store_le<std::uint16_t>(keys + 20, 24);
+        put_string(keys + 22, "GeoTIFF GeoKeyDirectoryTag", 32);
+        const std::uint16_t directory[12] = {1,
+                                             1,
+                                             0,
+                                             2,
+                                             1024,
+                                             0,
+                                             1,
+                                             std::uint16_t(geographic ? 2 : 1),
+                                             std::uint16_t(geographic ? 2048 : 3072),
+                                             0,
+                                             1,
+                                             std::uint16_t(l.epsg)};
+        for (int k = 0; k < 12; ++k) store_le<std::uint16_t>(keys + 54 + 2 * k, directory[k]);
+    }
     if (start_signature) {
         head[head.size() - 2] = std::byte{0xDD};
         head[head.size() - 1] = std::byte{0xCC};

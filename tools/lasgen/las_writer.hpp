@@ -18,6 +18,9 @@ struct LasLayout {
     int color_bits = 8;  // 8: values 0-255 in the 16-bit fields; 16: value * 257
     Vec3 scale{0.001, 0.001, 0.001};
     Vec3 offset{};
+    // GeoTIFF keys (LASF_Projection 34735) naming this EPSG CRS: 4000-4999 as a geographic CRS
+    // (GeographicTypeGeoKey), others as a projected one (ProjectedCSTypeGeoKey); 0: none.
+    int epsg = 0;
 };
 
 // Throws std::invalid_argument for combinations the LAS specification does not allow

@@ -29,6 +29,7 @@ struct Options {
     double noise = -1;
     double size = 10;
     double scale = 0.001;
+    int epsg = 0;
     std::vector<double> origin;
     std::vector<int> color;
     std::string output = "-";
@@ -71,6 +72,7 @@ void generate(const Options& o) {
     layout.extra_bytes = o.extra_bytes;
     layout.color_bits = o.color_depth;
     layout.scale = {o.scale, o.scale, o.scale};
+    layout.epsg = o.epsg;
     for (int a = 0; a < 3; ++a) layout.offset[a] = std::floor(scene.min[a]);
     // Quantisation moves a point by up to half a step: widen the bounds by one step.
     lasmesh::Vec3 min = scene.min, max = scene.max;
@@ -136,6 +138,7 @@ int main(int argc, char** argv) {
     app.add_option("--noise", o.noise, "Gaussian noise in metres (default: 0.01 for the deck, 0 for shapes)");
     app.add_option("--size", o.size, "Shape diameter or edge in metres")->capture_default_str();
     app.add_option("--scale", o.scale, "LAS scale factor (coordinate step) in metres")->capture_default_str();
+    app.add_option("--epsg", o.epsg, "Declare this EPSG CRS in GeoTIFF keys (4000-4999: geographic), e.g. 32631");
     app.add_option("--origin", o.origin, "X,Y,Z added to the scene (deck default: 431250,6700200,10)")
         ->expected(3)
         ->delimiter(',');
