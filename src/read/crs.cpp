@@ -17,8 +17,7 @@ namespace lasmesh {
 namespace {
 
 constexpr const char* projection_user_id = "LASF_Projection";
-constexpr std::uint16_t wkt_record = 2112, key_directory_record = 34735, doubles_record = 34736,
-                        ascii_record = 34737;
+constexpr std::uint16_t wkt_record = 2112, key_directory_record = 34735, doubles_record = 34736, ascii_record = 34737;
 // GeoTIFF keys lasmesh reads (GeoTIFF 1.1, annex B).
 constexpr std::uint16_t model_type_key = 1024, citation_key = 1026, geographic_type_key = 2048,
                         projected_type_key = 3072, projected_citation_key = 3073, vertical_type_key = 4096;
@@ -147,7 +146,8 @@ CrsInfo from_wkt(PJ_CONTEXT* ctx, const Vlr& vlr) {
     if (!crs) {
         CrsInfo info;
         info.source = "OGC WKT";
-        info.problem = "its WKT (\"" + text.substr(0, 60) + (text.size() > 60 ? "...\"" : "\"") + ") is unreadable: " + problem;
+        info.problem =
+            "its WKT (\"" + text.substr(0, 60) + (text.size() > 60 ? "...\"" : "\"") + ") is unreadable: " + problem;
         return info;
     }
     return describe(ctx, crs.get(), "OGC WKT");
@@ -167,7 +167,8 @@ CrsInfo from_geo_keys(PJ_CONTEXT* ctx, const std::map<std::uint16_t, GeoKey>& ke
     else if (usable(geographic))
         horizontal = from_epsg(ctx, geographic);
     if (!horizontal) {
-        const std::string citation = !text(projected_citation_key).empty() ? text(projected_citation_key) : text(citation_key);
+        const std::string citation =
+            !text(projected_citation_key).empty() ? text(projected_citation_key) : text(citation_key);
         failed.problem = (projected == user_defined || geographic == user_defined)
                              ? "a user-defined GeoTIFF CRS PROJ cannot build from its keys"
                              : "GeoTIFF keys without an EPSG code PROJ knows (projected " + std::to_string(projected) +
@@ -177,8 +178,7 @@ CrsInfo from_geo_keys(PJ_CONTEXT* ctx, const std::map<std::uint16_t, GeoKey>& ke
     }
     if (usable(vertical))
         if (const Object v = from_epsg(ctx, vertical)) {
-            const std::string name =
-                std::string(proj_get_name(horizontal.get())) + " + " + proj_get_name(v.get());
+            const std::string name = std::string(proj_get_name(horizontal.get())) + " + " + proj_get_name(v.get());
             const Object compound(proj_create_compound_crs(ctx, name.c_str(), horizontal.get(), v.get()));
             if (compound) return describe(ctx, compound.get(), "GeoTIFF keys");
         }
@@ -202,8 +202,10 @@ std::string crs_summary(const CrsInfo& crs) {
     if (!crs.identified()) return "from its " + crs.source + ", not identified: " + crs.problem;
     std::string text = crs.name + (crs.code.empty() ? "" : " (" + crs.code + ")") + ", " + crs.kind;
     if (!crs.unit.empty())
-        text += ", in " + crs.unit + (crs.unit_metres > 0 && crs.unit_metres != 1 ? " (" + significant(crs.unit_metres, 7) + " m)" : "");
-    if (!crs.vertical.empty()) text += "; vertical " + crs.vertical + (crs.vertical_unit.empty() ? "" : ", in " + crs.vertical_unit);
+        text += ", in " + crs.unit +
+                (crs.unit_metres > 0 && crs.unit_metres != 1 ? " (" + significant(crs.unit_metres, 7) + " m)" : "");
+    if (!crs.vertical.empty())
+        text += "; vertical " + crs.vertical + (crs.vertical_unit.empty() ? "" : ", in " + crs.vertical_unit);
     return text;
 }
 

@@ -12,17 +12,17 @@
 namespace lasmesh {
 
 struct CrsInfo {
-    std::string source;      // "OGC WKT" or "GeoTIFF keys"
-    std::string name;        // "NAD83 / Oregon GIC Lambert (ft)"; empty when PROJ cannot read it
-    std::string code;        // "EPSG:2992" when PROJ finds one; else empty
-    std::string kind;        // "projected", "geographic", "geocentric" or "other" (of the horizontal part)
-    std::string unit;        // the horizontal unit: "metre", "foot", "US survey foot", "degree"
-    double unit_metres = 0;  // metres per horizontal unit; 0 for an angle
-    std::string vertical;    // the vertical CRS's name, when the file gives one
+    std::string source;     // "OGC WKT" or "GeoTIFF keys"
+    std::string name;       // "NAD83 / Oregon GIC Lambert (ft)"; empty when PROJ cannot read it
+    std::string code;       // "EPSG:2992" when PROJ finds one; else empty
+    std::string kind;       // "projected", "geographic", "geocentric" or "other" (of the horizontal part)
+    std::string unit;       // the horizontal unit: "metre", "foot", "US survey foot", "degree"
+    double unit_metres = 0; // metres per horizontal unit; 0 for an angle
+    std::string vertical;   // the vertical CRS's name, when the file gives one
     std::string vertical_unit;
     double vertical_unit_metres = 0;
-    std::string wkt;         // PROJ's WKT2 of the whole CRS, for outputs; empty when unread
-    std::string problem;     // why PROJ could not read it ("user-defined projection ..."), or empty
+    std::string wkt;     // PROJ's WKT2 of the whole CRS, for outputs; empty when unread
+    std::string problem; // why PROJ could not read it ("user-defined projection ..."), or empty
 
     bool identified() const { return !name.empty(); }
     bool geographic() const { return kind == "geographic"; }
