@@ -2,6 +2,7 @@
 // The summary and the --report JSON: same fields, same order, one for people, one for programs.
 #include "mesh_report.hpp"
 
+#include "grid/cell_sums.hpp"
 #include "io/draco_writer.hpp"
 #include "io/json.hpp"
 #include "io/output_file.hpp"
