@@ -13,6 +13,7 @@
 #include "lasmesh/error.hpp"
 #include "lasmesh/mesh_files.hpp"
 #include "number_text.hpp"
+#include "read/crs.hpp"
 #include "read/input_stream.hpp"
 
 #include <filesystem>
@@ -98,8 +99,17 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
     options.mesh_samples = o.mesh_samples;
     options.cell_size = o.cell_size;
     options.on_step = [&](const std::string& step) { progress.stage(step); };
+    // Lengths are in the cloud's unit; a mesh that records another CRS is measured against
+    // coordinates it was not made in, which the numbers alone would not show.
+    const std::optional<CrsInfo> crs = read_crs(cloud.header());
+    const std::string cloud_crs = crs && crs->identified() ? crs_for_outputs(*crs) : "";
     const CompareResult r = compare(mesh, cloud, options);
     progress.clear();
+    if (!mesh.crs.empty() && mesh.crs != cloud_crs)
+        log << "lasmesh: warning: the mesh records the CRS "
+            << (mesh.crs.size() > 60 ? mesh.crs.substr(0, 60) + "..." : mesh.crs) << " but the cloud "
+            << (cloud_crs.empty() ? std::string("declares none") : "is in " + cloud_crs)
+            << ": the distances mean something only if both are in the same coordinates\n";
 
     if (o.json) {
         Json json;
@@ -112,7 +122,11 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
         out << json_line(json) << "\n";
     } else {
         out << "verdict        " << verdict(r) << "\n"
-            << "units          the file's (metres in most projected coordinate systems); every length below too\n";
+            << "units          "
+            << (crs && crs->identified() && !crs->unit.empty()
+                    ? crs->unit + " (the cloud's CRS: " + crs->name + (crs->code.empty() ? "" : ", " + crs->code) + ")"
+                    : std::string("the file's (it declares no CRS lasmesh can read; metres in most projected ones)"))
+            << "; every length below too\n";
         out << std::setprecision(4) << "mesh           " << o.mesh << ": " << mesh.positions.size() << " vertices, "
             << mesh.triangles.size() << " triangles\n"
             << "cloud          " << cloud.stream().name() << ": " << r.points_read << " points, " << r.points_used

@@ -62,7 +62,7 @@ first, second = open(sys.argv[2]).read().split("\n")[:2]
 want = "verdict        half of the points lie within %.4g of the mesh" % d["median"]
 assert first.startswith(want), (first, want)
 assert ("%.4g%% within a cell" % (100 * d["within_1_cell"])) in first, first
-assert second.startswith("units          the file") and "metres" in second, second
+assert second.startswith("units          the file") and "declares no CRS" in second, second
 ' "$dir/a.json" "$dir/a.txt"
 OMP_NUM_THREADS=1 taskset -c 0 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --samples 50000 --json > "$dir/b.json"
 check "one core gives the same numbers" cmp -s "$dir/a.json" "$dir/b.json"
@@ -79,5 +79,15 @@ check "truncated mesh exits 2" test "$rc" -eq 2
 check "truncated mesh: says where" contains "$dir/err.txt" "cut.ply: byte"
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/no/dir/h.ply" 2> /dev/null; rc=$?
 check "heat map into a missing folder exits 4" test "$rc" -eq 4
+
+# With a CRS: lengths in its unit, named; a mesh made in another CRS is warned about.
+"$lasgen" --scene box --points 20000 --epsg 32631 --origin 431250,6700200,10 -o "$dir/utm.las"
+"$lasmesh" "$dir/utm.las" -o "$dir/utm.ply" --grid 32 -q
+"$lasmesh" compare "$dir/utm.ply" "$dir/utm.las" --samples 5000 --mesh-samples 5000 > "$dir/utm.txt" 2> "$dir/utm.err"
+check "units named from the CRS" has "$dir/utm.txt" "units          metre (the cloud's CRS: WGS 84 / UTM zone 31N, EPSG:32631); every length below too"
+check "no warning when mesh and cloud agree" test ! -s "$dir/utm.err"
+"$lasgen" --scene box --points 20000 --epsg 32632 --origin 431250,6700200,10 -o "$dir/utm32.las"
+"$lasmesh" compare "$dir/utm.ply" "$dir/utm32.las" --samples 5000 --mesh-samples 5000 > /dev/null 2> "$dir/other.err"
+check "a mesh in another CRS is warned about" has "$dir/other.err" "the mesh records the CRS EPSG:32631 but the cloud is in EPSG:32632"
 
 finish "cli compare"
