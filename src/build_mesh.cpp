@@ -185,13 +185,7 @@ bool finite_at_least_zero(double value) {
 std::vector<MeshFormat> check_options(const std::string& input, const BuildOptions& o) {
     if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
     std::vector<MeshFormat> formats;
-    for (const OutputRequest& output : o.outputs) {
-        const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
-        if (!format)
-            usage_error("outputs",
-                        "output \"" + output.path + "\": unknown extension, expected .ply, .drc, .glb or .png");
-        formats.push_back(*format);
-    }
+    for (const OutputRequest& output : o.outputs) formats.push_back(output_format(output));
     for (const OutputRequest& output : o.outputs) check_output_folder(output.path);
     if (!o.report.empty()) check_output_folder(o.report);
     std::vector<std::pair<std::string, std::string>> paths{{"the input", input}};
@@ -252,13 +246,14 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
                                                           crs_summary(*crs) +
                                                           "): cells must be cubes in one unit, so project the file "
                                                           "to a projected CRS in metres or feet first");
+        r.crs = crs_summary(*crs);
         if (crs->geographic()) {
+            r.crs += " (not used: its x and y are not degrees)";
             r.warnings.push_back("warning: " + reader.stream().name() + " declares " + crs_summary(*crs) +
                                  ", but its x and y are not longitudes and latitudes: the declaration is wrong, "
-                                 "and neither it nor any CRS is recorded in the outputs");
-        } else {
-            r.crs = crs_summary(*crs);
-            if (crs->identified()) r.crs_recorded = crs_for_outputs(*crs);
+                                 "and no CRS is recorded in the outputs");
+        } else if (crs->identified()) {
+            r.crs_recorded = crs_for_outputs(*crs);
         }
     }
     ComputeDevice device(o.device);

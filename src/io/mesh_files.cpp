@@ -29,6 +29,14 @@ std::optional<MeshFormat> format_from_extension(const std::string& path) {
     return std::nullopt;
 }
 
+MeshFormat output_format(const OutputRequest& output) {
+    const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
+    if (!format)
+        throw Error(ErrorKind::usage,
+                    "output \"" + output.path + "\": unknown extension, expected .ply, .drc, .glb or .png", "outputs");
+    return *format;
+}
+
 void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
                      OutputFile& file) {
     if (format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
@@ -47,14 +55,11 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
 }
 
 void write_mesh(const Mesh& mesh, const OutputRequest& output, const std::string& name) {
-    const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
-    if (!format)
-        throw Error(ErrorKind::usage,
-                    "\"" + output.path + "\": unknown mesh extension, expected .ply, .drc, .glb or .png", "outputs");
-    if (*format != MeshFormat::ply && mesh.triangles.empty())
+    const MeshFormat format = output_format(output);
+    if (format != MeshFormat::ply && mesh.triangles.empty())
         throw Error(ErrorKind::output, output.path + ": the mesh has no triangles");
     OutputFile file(output.path);
-    write_mesh_into(mesh, output, *format, name, file);
+    write_mesh_into(mesh, output, format, name, file);
     file.commit();
 }
 

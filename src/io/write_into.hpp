@@ -12,6 +12,10 @@ namespace lasmesh {
 
 class OutputFile;
 
+// The format `output` asks for (its own, else its extension's); throws Error (usage, option
+// "outputs") naming the path when the extension names none.
+MeshFormat output_format(const OutputRequest& output);
+
 // The bytes of `output` in `format` (its own or from its extension) into `file`; Error (output)
 // messages start with the output's path.
 void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
