@@ -17,6 +17,7 @@
 #include "read/crs.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_scan.hpp"
+#include "read/survey.hpp"
 
 #include <tbb/global_control.h>
 
@@ -182,17 +183,24 @@ bool finite_at_least_zero(double value) {
 
 // Every check on the options, before the input is opened: nobody should wait through a read to
 // learn that an output cannot be written or an option makes no sense. Returns each output's format.
-std::vector<MeshFormat> check_options(const std::string& input, const BuildOptions& o) {
+std::vector<MeshFormat> check_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
+    if (inputs.empty()) usage_error("inputs", "no input given: nothing to mesh");
     if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
     std::vector<MeshFormat> formats;
     for (const OutputRequest& output : o.outputs) formats.push_back(output_format(output));
     for (const OutputRequest& output : o.outputs) check_output_folder(output.path);
     if (!o.report.empty()) check_output_folder(o.report);
-    std::vector<std::pair<std::string, std::string>> paths{{"the input", input}};
+    std::vector<std::pair<std::string, std::string>> paths;
     for (const OutputRequest& output : o.outputs) paths.emplace_back("the output", output.path);
     if (!o.report.empty()) paths.emplace_back("the report", o.report);
-    check_distinct_files(paths);
-    if (o.scan_bounds) check_rereadable(input);
+    if (inputs.size() == 1) {
+        paths.insert(paths.begin(), {"the input", inputs.front()});
+        check_distinct_files(paths);
+    } else {
+        check_distinct_inputs(inputs, paths);
+    }
+    if (o.scan_bounds)
+        for (const std::string& input : inputs) check_rereadable(input);
     if (o.surface == SurfaceKind::sheet && o.placement != VertexPlacement::surface)
         usage_error("placement",
                     "vertices on the iso level are for the closed surface only: the sheet places them on the points");
@@ -206,12 +214,69 @@ std::vector<MeshFormat> check_options(const std::string& input, const BuildOptio
     return formats;
 }
 
+// The coordinate system the outputs record, from what the input declares (`name` for messages).
+void describe_crs(const std::optional<CrsInfo>& crs, const LasHeader& header, const std::string& name, RunReport& r) {
+    if (!crs) return;
+    // Cubic cells need one unit on every axis: degrees of longitude and latitude are neither
+    // the same length as each other nor as the metres of z. Files that declare degrees but
+    // hold other numbers (writers copy a CRS they did not use) are meshed in their units.
+    const bool in_degrees =
+        header.min[0] >= -180 && header.max[0] <= 360 && header.min[1] >= -90 && header.max[1] <= 90;
+    if (crs->geographic() && in_degrees)
+        throw_input_error(name, "its x and y are longitude and latitude in degrees (" + crs_summary(*crs) +
+                                    "): cells must be cubes in one unit, so project the file "
+                                    "to a projected CRS in metres or feet first");
+    r.crs = crs_summary(*crs);
+    if (crs->geographic()) {
+        r.crs += " (not used: its x and y are not degrees)";
+        r.warnings.push_back("warning: " + name + " declares " + crs_summary(*crs) +
+                             ", but its x and y are not longitudes and latitudes: the declaration is wrong, "
+                             "and no CRS is recorded in the outputs");
+    } else if (crs->identified()) {
+        r.crs_recorded = crs_for_outputs(*crs);
+    }
+}
+
+// The union of the survey's files' scanned bounds (a first pass over every record). With
+// skip_bad, a file that fails is left out of the survey.
+Bounds scanned_bounds(Survey& survey, bool skip_bad) {
+    std::optional<Bounds> all;
+    for (std::size_t i = 0; i < survey.files.size();) {
+        if (survey.files[i].point_count == 0) {
+            ++i;
+            continue;
+        }
+        ScanResult scan;
+        try {
+            scan = scan_file(survey.files[i].path);
+        } catch (const Error& e) {
+            if (e.kind() != ErrorKind::input) throw;
+            if (!skip_bad) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            survey = survey_without(survey, i, e.what());
+            continue;
+        }
+        if (scan.point_count > 0) {
+            if (!all) all = Bounds{scan.min, scan.max};
+            for (int a = 0; a < 3; ++a) {
+                all->min[a] = std::min(all->min[a], scan.min[a]);
+                all->max[a] = std::max(all->max[a], scan.max[a]);
+            }
+        }
+        ++i;
+    }
+    return all.value_or(Bounds{});
+}
+
 } // namespace
 
 BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
+    return build_mesh(std::vector<std::string>{input}, o, observer);
+}
+
+BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOptions& o, BuildObserver* observer) {
     BuildObserver silent;
     BuildObserver& watch = observer ? *observer : silent;
-    const std::vector<MeshFormat> formats = check_options(input, o); // before reading
+    const std::vector<MeshFormat> formats = check_options(inputs, o); // before reading
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -220,58 +285,77 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     const auto start = std::chrono::steady_clock::now();
     AccumulateOptions accumulate;
     accumulate.grid = o.grid;
-    if (o.scan_bounds) {
-        const ScanResult scan = scan_file(input);
-        accumulate.bounds = Bounds{scan.min, scan.max};
-    } else {
-        accumulate.bounds = o.bounds;
-    }
+    accumulate.bounds = o.bounds;
     accumulate.slice_bytes = o.slice_bytes;
     accumulate.max_memory = o.max_memory;
-    LasReader reader(input);
-    // An empty mesh is no use and Draco cannot encode one: say so before any device work.
-    const LasHeader& header = reader.header();
-    if (header.point_count == 0)
-        throw_input_error(reader.stream().name(),
-                          "the header promises no point records (point count 0): nothing to mesh");
-    if (!accumulate.bounds) check_header_bounds_usable(header, reader.stream().name());
-    if (const std::optional<CrsInfo> crs = read_crs(header)) {
-        // Cubic cells need one unit on every axis: degrees of longitude and latitude are neither
-        // the same length as each other nor as the metres of z. Files that declare degrees but
-        // hold other numbers (writers copy a CRS they did not use) are meshed in their units.
-        const bool in_degrees =
-            header.min[0] >= -180 && header.max[0] <= 360 && header.min[1] >= -90 && header.max[1] <= 90;
-        if (crs->geographic() && in_degrees)
-            throw_input_error(reader.stream().name(), "its x and y are longitude and latitude in degrees (" +
-                                                          crs_summary(*crs) +
-                                                          "): cells must be cubes in one unit, so project the file "
-                                                          "to a projected CRS in metres or feet first");
-        r.crs = crs_summary(*crs);
-        if (crs->geographic()) {
-            r.crs += " (not used: its x and y are not degrees)";
-            r.warnings.push_back("warning: " + reader.stream().name() + " declares " + crs_summary(*crs) +
-                                 ", but its x and y are not longitudes and latitudes: the declaration is wrong, "
-                                 "and no CRS is recorded in the outputs");
-        } else if (crs->identified()) {
-            r.crs_recorded = crs_for_outputs(*crs);
+    // One input is opened once (standard input too); several are surveyed first, headers only.
+    std::unique_ptr<LasReader> single;
+    std::optional<Survey> survey;
+    if (inputs.size() == 1) {
+        if (o.scan_bounds) {
+            const ScanResult scan = scan_file(inputs.front());
+            accumulate.bounds = Bounds{scan.min, scan.max};
         }
+        single = std::make_unique<LasReader>(inputs.front());
+        const LasHeader& header = single->header();
+        // An empty mesh is no use and Draco cannot encode one: say so before any device work.
+        if (header.point_count == 0)
+            throw_input_error(single->stream().name(),
+                              "the header promises no point records (point count 0): nothing to mesh");
+        if (!accumulate.bounds) check_header_bounds_usable(header, single->stream().name());
+        describe_crs(read_crs(header), header, single->stream().name(), r);
+    } else {
+        survey = read_survey(inputs, o.skip_bad_inputs, !o.bounds && !o.scan_bounds);
+        if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(*survey, o.skip_bad_inputs);
+        if (survey->header.point_count == 0)
+            throw Error(ErrorKind::input, "the headers of the " + std::to_string(survey->files.size()) +
+                                              " inputs promise no point records: nothing to mesh");
+        describe_crs(survey->crs, survey->header, std::to_string(survey->files.size()) + " inputs", r);
+        r.warnings.insert(r.warnings.end(), survey->notes.begin(), survey->notes.end());
     }
     ComputeDevice device(o.device);
-    r.input = reader.stream().name();
     r.device = device.info().name;
-    watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
-    watch.detail("reading        " + r.input + ": LAS " + version_string(reader.header()) + ", point format " +
-                 std::to_string(reader.header().point_format) + ", " + std::to_string(reader.header().point_count) +
-                 " points promised");
-    watch.detail("device         " + r.device + " (" + device.info().platform + "), " +
-                 megabytes(device.info().global_memory) + " memory, largest buffer " +
-                 megabytes(device.info().max_alloc));
-    accumulate.on_slice = [&](std::uint64_t points) {
-        watch.points_read(points, reader.header().point_count, reader.stream().raw_position(),
-                          reader.stream().raw_size());
-    };
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
-    CellGrid grid = accumulate_cells(reader, device, accumulate);
+    CellGrid grid;
+    bool header_color = false;
+    for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
+        SurveyReader reader = single ? SurveyReader(*single) : SurveyReader(*survey);
+        const LasHeader& header = reader.header();
+        r.input = reader.name();
+        watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
+        if (single)
+            watch.detail("reading        " + r.input + ": LAS " + version_string(header) + ", point format " +
+                         std::to_string(header.point_format) + ", " + std::to_string(header.point_count) +
+                         " points promised");
+        else
+            watch.detail("reading        " + r.input + ": " + std::to_string(header.point_count) +
+                         " points promised, in point format " + std::to_string(header.point_format) + ", scale " +
+                         shortest(header.scale[0]) + " " + shortest(header.scale[1]) + " " + shortest(header.scale[2]) +
+                         ", offset " + shortest(header.offset[0]) + " " + shortest(header.offset[1]) + " " +
+                         shortest(header.offset[2]));
+        watch.detail("device         " + r.device + " (" + device.info().platform + "), " +
+                     megabytes(device.info().global_memory) + " memory, largest buffer " +
+                     megabytes(device.info().max_alloc));
+        accumulate.on_slice = [&](std::uint64_t points) {
+            watch.points_read(points, header.point_count, reader.bytes_read(), reader.bytes_total());
+        };
+        try {
+            grid = accumulate_cells(reader, device, accumulate);
+        } catch (const Error& e) {
+            if (!survey || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
+            if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            *survey = survey_without(*survey, *reader.failed_file(), e.what());
+            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(*survey, o.skip_bad_inputs);
+            continue;
+        }
+        r.warnings.insert(r.warnings.end(), reader.warnings().begin(), reader.warnings().end());
+        header_color = has_color(header);
+        break;
+    }
+    if (survey) {
+        r.input_files = survey->files.size();
+        for (const SkippedInput& skipped : survey->skipped) r.skipped_inputs.push_back(skipped.reason);
+    }
     r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
@@ -281,8 +365,7 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     r.host_grid_bytes = grid.host_bytes();
-    if (std::string warning = trailing_warning(reader); !warning.empty()) r.warnings.push_back(std::move(warning));
-    if (has_color(reader.header()) && !grid.has_color())
+    if (header_color && !grid.has_color())
         r.warnings.push_back("note: " + r.input + ": the colour of every point is 0 (black): the mesh has no colour");
     if (double(r.median_count) > too_coarse_points_per_cell)
         r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " +
@@ -320,7 +403,6 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
         watch.detail("simplified     " + std::to_string(r.simplify.triangles_before) + " to " +
                      std::to_string(r.simplify.triangles_after) + " triangles within " + four_digits(simplify.error) +
                      " in " + two_digits(r.simplify.seconds) + " s");
-    r.input = reader.stream().name();
     if (mesh.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
     if (!o.normals)
         mesh.normals.clear();
@@ -337,13 +419,14 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObs
 
     // Every output into its temporary file first, then all renamed: all of them or none.
     const auto write_start = std::chrono::steady_clock::now();
-    const std::string name = mesh_name(input);
     std::vector<std::unique_ptr<OutputFile>> files;
     for (std::size_t i = 0; i < o.outputs.size(); ++i) {
         const OutputRequest& output = o.outputs[i];
         watch.stage_started(BuildStage::write, "writing " + output.path);
         const auto output_start = std::chrono::steady_clock::now();
         files.push_back(std::make_unique<OutputFile>(output.path));
+        // Named after the input, or with several after the output: never after one input of many.
+        const std::string name = mesh_name(inputs.size() == 1 ? inputs.front() : output.path);
         write_mesh_into(mesh, output, formats[i], name, *files.back());
         files.back()->finish();
         r.outputs.push_back({output.path, files.back()->bytes(), seconds_since(output_start)});

@@ -64,6 +64,18 @@ Bytes make_las(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std:
     return file;
 }
 
+Bytes make_las_part(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std::uint64_t first,
+                    std::uint64_t count, std::uint64_t seed) {
+    Bytes file = lasgen::las_file_head(layout, count, scene.min, scene.max, "test scene part");
+    const std::size_t length = lasgen::record_length(layout);
+    const std::size_t head = file.size();
+    file.resize(head + count * length);
+    for (std::uint64_t i = 0; i < count; ++i)
+        lasgen::encode_record(layout, lasgen::generate_point(scene, seed, first + i), first + i,
+                              file.data() + head + i * length);
+    return file;
+}
+
 std::filesystem::path shared_las_folder() {
     // shared/ sits beside the checkout (CI clones main next to it); LASMESH_SHARED overrides.
     const char* override_dir = std::getenv("LASMESH_SHARED");

@@ -37,6 +37,11 @@ void write_file(const std::string& path, const Bytes& bytes);
 Bytes make_las(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std::uint64_t count,
                std::uint64_t seed = 1);
 
+// Points [first, first + count) of `scene` as make_las numbers them, in `layout` with its own
+// scale and offset (a file of a survey); the header bounds are the scene's.
+Bytes make_las_part(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std::uint64_t first,
+                    std::uint64_t count, std::uint64_t seed = 1);
+
 // The JSON chunk of a binary glTF file (.glb).
 std::string glb_json(const std::string& glb);
 

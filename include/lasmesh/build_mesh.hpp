@@ -56,7 +56,10 @@ struct SimplifyRequest {
 struct BuildOptions {
     GridRequest grid;             // default: chosen from the data; or GridRequest::longest(N), cells(...), cell_edge(E)
     std::optional<Bounds> bounds; // the region to grid; default: the header bounds
-    bool scan_bounds = false;     // read a file twice, first for its points' real bounds
+    bool scan_bounds = false;     // read the inputs twice, first for their points' real bounds
+    // Several inputs: leave out an input that cannot be read (listed in the report) instead of
+    // stopping. One that fails part-way through its points costs a second read of the others.
+    bool skip_bad_inputs = false;
     std::optional<double>
         iso; // points per cell at the surface; default: a tenth of the occupied cells' median count, at least 1
     SurfaceKind surface = SurfaceKind::sheet;
@@ -81,7 +84,9 @@ struct OutputReport {
 };
 
 struct RunReport {
-    std::string input, device; // the input's name ("standard input" for -), the device's
+    std::string input, device;               // the input's name ("standard input" for -; "64 files"), the device's
+    std::uint64_t input_files = 1;           // the inputs read
+    std::vector<std::string> skipped_inputs; // with skip_bad_inputs: each input left out, with its error
     std::uint64_t points_read = 0, points_outside = 0;
     std::vector<std::string> warnings; // "warning: ..." lines to show, e.g. records past the header's count
     GridSpec grid;
@@ -131,7 +136,7 @@ struct BuildObserver {
     virtual void detail(const std::string& /*line*/) {}
 };
 
-// Reads `input` (a LAS path, or "-" for standard input), sums its points into a grid of cells, extracts the
+// Reads `input` (a LAS or LAZ path, or "-" for standard input), sums its points into a grid of cells, extracts the
 // surface, removes small pieces, simplifies, computes normals and writes every output (a .glb's
 // scene, node, mesh and material are named after the input's file name without extension).
 // Throws Error: usage for options that cannot work (no outputs, an output path that is the input
@@ -139,6 +144,16 @@ struct BuildObserver {
 // does not fit), input for an input that gives no mesh (nothing written then), device or output
 // otherwise. Every check on the options is made before the input is opened.
 BuildResult build_mesh(const std::string& input, const BuildOptions& options, BuildObserver* observer = nullptr);
+
+// The same for a survey delivered as several files, meshed as one cloud: LAS and LAZ, plain or
+// compressed, each with its own scale, offset and point format, all in one coordinate system
+// (files that declare none are taken to be in it). The grid covers the union of their bounds;
+// the mesh does not depend on the order of `inputs`, and is the one build_mesh gives for a single
+// file holding all their points when their scales and offsets agree. One file is open at a
+// time. A .glb's names are then the output's file name without extension. An input that cannot be
+// read stops the run (nothing written) unless options.skip_bad_inputs.
+BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOptions& options,
+                       BuildObserver* observer = nullptr);
 
 // The report as one line of JSON (full precision), the fields in the order of the RunReport.
 std::string run_report_json(const RunReport& report);

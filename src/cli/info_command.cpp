@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// `lasmesh info`: text for people, one JSON object with --json.
+// `lasmesh info`: text for people, one JSON object with --json; with several inputs, each file's
+// facts and then the survey's (the union the mesh would cover).
 #include "info_command.hpp"
 
 #include "io/json.hpp"
@@ -7,6 +8,7 @@
 #include "read/crs.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_scan.hpp"
+#include "read/survey.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -74,7 +76,7 @@ std::string crs_line(const LasHeader& h) {
     return crs ? crs_summary(*crs) : "none declared (coordinates in the file's own units)";
 }
 
-void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::ostream& out) {
+Json header_json(const LasHeader& h, const std::optional<ScanResult>& scan) {
     Json json;
     json["version"] = version_string(h);
     json["records"] = !h.compressed ? "las" : is_copc(h) ? "copc" : "laz";
@@ -110,7 +112,67 @@ void write_json(const LasHeader& h, const std::optional<ScanResult>& scan, std::
                            {"bounds", {{"min", scan->min}, {"max", scan->max}}},
                            {"color_min", scan->color_min},
                            {"color_max", scan->color_max}};
-    out << json_line(json) << '\n';
+    return json;
+}
+
+// What several inputs are as one survey: how many points, the frame and layout their records are
+// read in, the union of their bounds, the CRS; or why they cannot be meshed together.
+struct SurveyFacts {
+    std::optional<Survey> survey;
+    std::string problem;
+    bool same_frame = true, same_layout = true;
+};
+
+SurveyFacts survey_facts(const std::vector<std::string>& inputs) {
+    SurveyFacts facts;
+    try {
+        facts.survey = read_survey(inputs, false, false);
+    } catch (const Error& e) {
+        facts.problem = e.what();
+        return facts;
+    }
+    for (const SurveyFile& file : facts.survey->files) {
+        if (file.point_count == 0) continue;
+        facts.same_frame =
+            facts.same_frame && file.scale == facts.survey->header.scale && file.offset == facts.survey->header.offset;
+        facts.same_layout = facts.same_layout && file.point_format == facts.survey->header.point_format &&
+                            file.record_length == facts.survey->header.point_record_length;
+    }
+    return facts;
+}
+
+Json survey_json(const SurveyFacts& facts) {
+    if (!facts.survey) return {{"problem", facts.problem}};
+    const LasHeader& h = facts.survey->header;
+    return {{"files", facts.survey->files.size()},
+            {"point_count", h.point_count},
+            {"point_format", h.point_format},
+            {"point_record_length", h.point_record_length},
+            {"same_layout", facts.same_layout},
+            {"scale", h.scale},
+            {"offset", h.offset},
+            {"same_frame", facts.same_frame},
+            {"bounds", {{"min", h.min}, {"max", h.max}}},
+            {"crs", facts.survey->crs ? crs_summary(*facts.survey->crs) : ""},
+            {"notes", facts.survey->notes}};
+}
+
+void write_survey_text(const SurveyFacts& facts, std::ostream& out) {
+    if (!facts.survey) {
+        out << "survey               cannot be meshed as one: " << facts.problem << '\n';
+        return;
+    }
+    const LasHeader& h = facts.survey->header;
+    out << "survey               " << facts.survey->files.size() << " files, " << h.point_count << " points\n"
+        << "read as              point format " << int(h.point_format) << " (" << h.point_record_length
+        << "-byte records" << (facts.same_layout ? ", as every file" : ": X, Y, Z and colour of files in others")
+        << ")\nscale                " << join(h.scale) << "\noffset               " << join(h.offset)
+        << (facts.same_frame ? "  (every file's)" : "  (the files differ: records brought into this frame)")
+        << "\nbounds min           " << join_scaled(h.min, h.scale) << "\nbounds max           "
+        << join_scaled(h.max, h.scale) << "\ncrs                  "
+        << (facts.survey->crs ? crs_summary(*facts.survey->crs) : "none declared (coordinates in the files' own units)")
+        << '\n';
+    for (const std::string& note : facts.survey->notes) out << note << '\n';
 }
 
 void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, std::ostream& out) {
@@ -143,14 +205,28 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
 } // namespace
 
 void run_info(const InfoOptions& options, std::ostream& out, std::ostream& log) {
-    LasReader reader(options.input);
-    std::optional<ScanResult> scan;
-    if (options.scan) scan = scan_points(reader, options.chunk_points);
-    if (const std::string warning = trailing_warning(reader); !warning.empty()) log << "lasmesh: " << warning << '\n';
-    if (options.json)
-        write_json(reader.header(), scan, out);
-    else
-        write_text(reader, scan, out);
+    Json files = Json::array();
+    for (const std::string& input : options.inputs) {
+        LasReader reader(input);
+        std::optional<ScanResult> scan;
+        if (options.scan) scan = scan_points(reader, options.chunk_points);
+        if (const std::string warning = trailing_warning(reader); !warning.empty())
+            log << "lasmesh: " << warning << '\n';
+        if (options.json)
+            files.push_back(header_json(reader.header(), scan));
+        else
+            write_text(reader, scan, out << (&input == &options.inputs.front() ? "" : "\n"));
+    }
+    if (options.inputs.size() == 1) {
+        if (options.json) out << json_line(files.front()) << '\n';
+        return;
+    }
+    const SurveyFacts facts = survey_facts(options.inputs);
+    if (options.json) {
+        out << json_line(Json{{"files", files}, {"survey", survey_json(facts)}}) << '\n';
+        return;
+    }
+    write_survey_text(facts, out << '\n');
 }
 
 } // namespace lasmesh::cli

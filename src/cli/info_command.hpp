@@ -5,11 +5,12 @@
 #include <cstddef>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace lasmesh::cli {
 
 struct InfoOptions {
-    std::string input;
+    std::vector<std::string> inputs;
     bool json = false;
     bool scan = false;
     std::size_t chunk_points = 1 << 16;

@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
                "  curl -s https://example.org/deck.las | lasmesh - -o deck.glb\n"
                "  zstdcat scan.las.zst | lasmesh - -o scan.ply      gzip/bzip2/xz/zstd are also read directly\n"
                "  lasmesh scan.laz -o scan.ply                      LAZ (LASzip) is decoded directly, in parallel\n"
+               "  lasmesh station*.laz -o site.glb                  many files of one survey, one mesh\n"
+               "  lasmesh --inputs tiles.txt -o site.glb            thousands of files: one path a line\n"
                "  lasmesh deck.las -o deck.ply --grid 512           finer: 512 cells along the longest axis\n"
                "  lasmesh valve.las -o valve.ply --voxel 0.01       cells of 1 cm, for a small part\n"
                "  lasmesh deck.las -o deck.ply --iso 8              fill only cells with more than 8 points\n"
@@ -51,11 +53,14 @@ int main(int argc, char** argv) {
     lasmesh::cli::add_mesh_options(app, mesh);
 
     lasmesh::cli::InfoOptions info;
-    CLI::App* info_command = app.add_subcommand("info", "Print the header facts of a LAS or LAZ file");
+    CLI::App* info_command = app.add_subcommand(
+        "info", "Print the header facts of LAS or LAZ files; of several, also what they make as one survey");
     info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
-                         "  xzcat deck.las.xz | lasmesh info -");
+                         "  xzcat deck.las.xz | lasmesh info -\n  lasmesh info station*.laz");
     info_command
-        ->add_option("INPUT", info.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+        ->add_option("INPUT", info.inputs,
+                     "LAS or LAZ files, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+        ->type_name("FILE...")
         ->required();
     info_command->add_flag("--json", info.json, "One JSON object instead of text");
     info_command->add_flag("--scan", info.scan, "Read every record: count, bounds and colour range from the data");
@@ -111,7 +116,7 @@ int main(int argc, char** argv) {
         if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);
         if (app.get_subcommands().empty()) {
-            if (mesh.input.empty()) {
+            if (mesh.inputs.empty() && mesh.inputs_list.empty()) {
                 std::cerr << app.help();
                 return static_cast<int>(lasmesh::ErrorKind::usage);
             }

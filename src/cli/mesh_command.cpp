@@ -9,7 +9,11 @@
 #include "option_parsing.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
 #include <map>
 
 namespace lasmesh::cli {
@@ -36,7 +40,16 @@ CLI::Validator draco_bits_check() {
 } // namespace
 
 void add_mesh_options(CLI::App& app, MeshOptions& o) {
-    app.add_option("INPUT", o.input, "LAS or LAZ file, or - for standard input (gzip, bzip2, xz, zstd recognised)");
+    app.add_option("INPUT", o.inputs,
+                   "LAS or LAZ files (gzip, bzip2, xz, zstd recognised), meshed as one survey; or - for standard "
+                   "input, alone")
+        ->type_name("FILE...");
+    app.add_option("--inputs", o.inputs_list,
+                   "Also read the inputs listed in this file, one path a line (relative to the list's folder; "
+                   "blank lines and lines starting with # skipped); - reads the list from standard input")
+        ->type_name("LIST");
+    app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
+                 "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
                    ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview)")
@@ -132,7 +145,34 @@ BuildOptions build_options(const MeshOptions& o) {
     b.device = o.grid.device;
     b.threads = o.threads;
     b.scan_bounds = o.grid.scan_bounds;
+    b.skip_bad_inputs = o.skip_bad_inputs;
     return b;
+}
+
+// The inputs named on the command line, then those of --inputs LIST.
+std::vector<std::string> all_inputs(const MeshOptions& o) {
+    std::vector<std::string> inputs = o.inputs;
+    if (o.inputs_list.empty()) return inputs;
+    std::ifstream file;
+    if (o.inputs_list != "-") {
+        file.open(o.inputs_list);
+        if (!file) throw Error(ErrorKind::input, o.inputs_list + ": cannot open the list of inputs");
+    }
+    std::istream& list = o.inputs_list == "-" ? std::cin : file;
+    const std::string name = o.inputs_list == "-" ? "the list on standard input" : o.inputs_list;
+    const std::filesystem::path folder =
+        o.inputs_list == "-" ? std::filesystem::path() : std::filesystem::path(o.inputs_list).parent_path();
+    std::size_t listed = 0;
+    for (std::string line; std::getline(list, line);) {
+        while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back(); // \r too
+        if (line.empty() || line.front() == '#') continue;
+        const std::filesystem::path path(line);
+        inputs.push_back(path.is_absolute() ? line : (folder / path).string());
+        ++listed;
+    }
+    if (list.bad()) throw Error(ErrorKind::input, name + ": reading the list of inputs failed");
+    if (listed == 0) throw Error(ErrorKind::usage, name + " lists no input (one path a line)", "inputs");
+    return inputs;
 }
 
 } // namespace
@@ -151,7 +191,7 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     });
     options.keep_mesh = context.any_draco && !o.quiet; // the Draco line reports bits and step of the mesh
     MeshObserver observer(summary, o.progress, o.verbose, o.quiet);
-    const BuildResult result = build_mesh(o.input, options, &observer);
+    const BuildResult result = build_mesh(all_inputs(o), options, &observer);
     observer.clear();
     context.mesh = result.mesh ? &*result.mesh : nullptr;
     if (!o.quiet) print_summary(result.report, context, summary);

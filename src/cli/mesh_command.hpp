@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The main job: `lasmesh INPUT -o OUT.ply -o OUT.drc -o OUT.glb`: read, accumulate, extract once,
+// The main job: `lasmesh INPUT... -o OUT.ply -o OUT.drc -o OUT.glb`: read, accumulate, extract once,
 // write each output, with a summary.
 #pragma once
 
@@ -13,7 +13,9 @@
 namespace lasmesh::cli {
 
 struct MeshOptions {
-    std::string input;
+    std::vector<std::string> inputs;
+    std::string inputs_list;          // --inputs LIST: one path a line
+    bool skip_bad_inputs = false;     // --skip-bad-inputs
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
     std::string iso = "auto";

@@ -27,8 +27,9 @@ std::string extension_name(const std::string& path) {
 
 void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& summary) {
     const auto& s = r.grid;
-    summary << std::setprecision(6) << "input          " << r.input << "\n"
-            << "device         " << r.device << "\n"
+    summary << std::setprecision(6) << "input          " << r.input << "\n";
+    for (const std::string& skipped : r.skipped_inputs) summary << "skipped        " << skipped << "\n";
+    summary << "device         " << r.device << "\n"
             << "points         " << r.points_read << " read, " << r.points_outside << " outside the grid\n"
             << "crs            " << (r.crs.empty() ? "none declared: the mesh is in the file's own units" : r.crs)
             << "\n"

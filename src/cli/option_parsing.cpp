@@ -166,6 +166,7 @@ std::string flag_hint(const Error& error) {
         {"surface", "--surface"},
         {"max_memory", "--max-memory"},
         {"device", "--device"},
+        {"skip_bad_inputs", "--skip-bad-inputs"},
     };
     std::vector<std::string> named;
     std::stringstream options(error.option());

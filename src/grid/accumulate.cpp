@@ -9,6 +9,7 @@
 #include "grid/auto_grid.hpp"
 #include "grid/cell_sums.hpp"
 #include "read/input_stream.hpp"
+#include "read/survey.hpp"
 
 #include "brick_pool.hpp"
 #include "host_memory.hpp"
@@ -65,7 +66,7 @@ struct Carry {
 // being filled. Each step is a member function; run() calls them in order.
 class Accumulation {
   public:
-    Accumulation(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options)
+    Accumulation(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options)
         : reader_(reader), header_(reader.header()), dev_(device.impl()), options_(options),
           length_(header_.point_record_length), color_(has_color(header_)) {}
 
@@ -458,7 +459,7 @@ class Accumulation {
     // Where the pool's chunks start among each kernel's arguments.
     static constexpr int pool_arg_add = 15, pool_arg_listed = 16, chunk_args = PoolLayout::max_chunks;
 
-    LasReader& reader_;
+    SurveyReader& reader_;
     const LasHeader& header_;
     ComputeDevice::Impl& dev_;
     const AccumulateOptions& options_;
@@ -491,11 +492,11 @@ class Accumulation {
 } // namespace
 
 // Accumulates into the grid `options` names exactly (a chosen request, or a given spec).
-static CellGrid accumulate_into(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+static CellGrid accumulate_into(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     return Accumulation(reader, device, options).run();
 }
 
-CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+CellGrid accumulate_cells(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
     const GridRequest& request = options.grid;
     if (options.spec || request.kind != GridRequest::Kind::automatic) return accumulate_into(reader, device, options);
     if (request.dims != std::array<std::uint32_t, 3>{0, 0, 0} || request.voxel != 0)
@@ -503,14 +504,19 @@ CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const Accumu
                                       "GridRequest::longest(N), cells(NX, NY, NZ) or cell_edge(E) set both");
     // The header's count and extents give a first grid; the counts in its cells a second look.
     const LasHeader& header = reader.header();
-    const GridChoice choice = choose_grid(header.point_count, options.bounds.value_or(Bounds{header.min, header.max}),
-                                          reader.stream().name());
+    const GridChoice choice =
+        choose_grid(header.point_count, options.bounds.value_or(Bounds{header.min, header.max}), reader.name());
     AccumulateOptions chosen = options;
     chosen.grid = choice.request;
     CellGrid grid = accumulate_into(reader, device, chosen);
     const std::string coarsened = coarsen_while_sparse(grid);
     grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
     return grid;
+}
+
+CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
+    SurveyReader records(reader);
+    return accumulate_cells(records, device, options);
 }
 
 } // namespace lasmesh

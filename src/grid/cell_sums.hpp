@@ -20,6 +20,7 @@
 
 namespace lasmesh {
 
+class SurveyReader;
 using Rgb8 = std::array<std::uint8_t, 3>;
 
 struct AccumulateOptions {
@@ -192,6 +193,8 @@ GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options);
 // pool of bricks would outgrow the device's memory, its largest allocation or
 // options.max_memory, saying how far it got and a grid that would fit. Reading the next slice
 // overlaps the device's work on the current one.
+CellGrid accumulate_cells(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options);
+// The same for one input.
 CellGrid accumulate_cells(LasReader& reader, ComputeDevice& device, const AccumulateOptions& options);
 
 } // namespace lasmesh

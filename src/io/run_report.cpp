@@ -10,6 +10,8 @@ namespace lasmesh {
 std::string run_report_json(const RunReport& r) {
     Json json;
     json["input"] = r.input;
+    json["input_files"] = r.input_files;
+    json["skipped_inputs"] = r.skipped_inputs;
     json["device"] = r.device;
     json["points_read"] = r.points_read;
     json["points_outside"] = r.points_outside;

@@ -6,6 +6,7 @@
 #include "lasmesh/error.hpp"
 
 #include <filesystem>
+#include <map>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -50,6 +51,30 @@ void check_distinct_files(const std::vector<std::pair<std::string, std::string>>
                                               "\" are the same file: writing one would destroy the other; "
                                               "give each output a path of its own");
         }
+}
+
+void check_distinct_inputs(const std::vector<std::string>& inputs,
+                           const std::vector<std::pair<std::string, std::string>>& outputs) {
+    std::map<std::pair<dev_t, ino_t>, const std::string*> seen; // by identity: a sort, not n^2 comparisons
+    for (const std::string& input : inputs) {
+        struct stat s {};
+        if (!identity(input, s)) continue; // reading it will say what is wrong
+        const auto [at, added] = seen.emplace(std::pair{s.st_dev, s.st_ino}, &input);
+        if (!added)
+            throw Error(ErrorKind::usage,
+                        "the inputs \"" + *at->second + "\" and \"" + input +
+                            "\" are the same file: its points would be counted twice; give each input once",
+                        "inputs");
+    }
+    for (const auto& [role, path] : outputs) {
+        struct stat s {};
+        if (!identity(path, s)) continue;
+        if (const auto at = seen.find({s.st_dev, s.st_ino}); at != seen.end())
+            throw Error(ErrorKind::usage, role + " \"" + path + "\" and the input \"" + *at->second +
+                                              "\" are the same file: writing one would destroy the other; "
+                                              "give each output a path of its own");
+    }
+    check_distinct_files(outputs);
 }
 
 } // namespace lasmesh

@@ -19,4 +19,9 @@ bool same_file(const std::string& a, const std::string& b);
 // are the same file. Call it before reading anything.
 void check_distinct_files(const std::vector<std::pair<std::string, std::string>>& paths);
 
+// The same for many inputs (thousands) and a few outputs: no input given twice (its points would
+// count twice), no output that is an input, no two outputs the same file.
+void check_distinct_inputs(const std::vector<std::string>& inputs,
+                           const std::vector<std::pair<std::string, std::string>>& outputs);
+
 } // namespace lasmesh

@@ -148,4 +148,34 @@ check "clusters far apart: the grid is named as the cause" has "$dir/clusters.tx
 "$lasmesh" "$dir/clusters.las" -o "$dir/clusters.ply" --min-piece 0 2> "$dir/clusters.txt"
 check "clusters far apart with every piece kept: a warning that the grid is far too coarse" has "$dir/clusters.txt" "warning: the grid (1024 x 2 x 1 cells of 977.5) is far too coarse"
 
+# A survey: the deck in six files (one zstd, one gzip), given in any order or by a list, meshes
+# to the single file's bytes; files with their own offsets, scales and formats mesh together.
+"$lasgen" --points 100000 --order scan -o "$dir/whole.las"
+"$lasgen" --points 100000 --order scan --split 6 -o "$dir/sv.las"
+zstd -q --rm "$dir/sv-1.las" && gzip "$dir/sv-4.las"
+parts=("$dir/sv-0.las" "$dir/sv-1.las.zst" "$dir/sv-2.las" "$dir/sv-3.las" "$dir/sv-4.las.gz" "$dir/sv-5.las")
+"$lasmesh" "$dir/whole.las" -o "$dir/whole.ply" 2> /dev/null
+"$lasmesh" "${parts[@]}" -o "$dir/sv.ply" --report "$dir/sv.json" 2> "$dir/sv.txt"
+check "a survey of six files: the single file's bytes" cmp -s "$dir/sv.ply" "$dir/whole.ply"
+check "a survey: the summary says six files" contains "$dir/sv.txt" "^input          6 files"
+check "a survey: the report counts the files" python3 -c "
+import json, sys; r = json.load(open(sys.argv[1])); assert r['input_files'] == 6 and r['points_read'] == 100000, r" "$dir/sv.json"
+printf '# the deck, backwards\nsv-5.las\n\nsv-4.las.gz\r\nsv-3.las\nsv-2.las\nsv-1.las.zst\nsv-0.las\n' > "$dir/list.txt"
+(cd / && "$lasmesh" --inputs "$dir/list.txt" -o "$dir/list.ply" 2> /dev/null)
+check "--inputs LIST, relative to the list's folder, backwards: the same bytes" cmp -s "$dir/list.ply" "$dir/whole.ply"
+"$lasgen" --points 100000 --order scan --split 6 --split-vary -o "$dir/vary.las"
+"$lasmesh" info "$dir"/vary-*.las > "$dir/vary-info.txt"
+check "info of several: the survey's count" contains "$dir/vary-info.txt" "^survey               6 files, 100000 points"
+check "info of several: the frame differs" has "$dir/vary-info.txt" "(the files differ: records brought into this frame)"
+"$lasmesh" "$dir"/vary-*.las -o "$dir/vary.ply" --report "$dir/vary.json" 2> /dev/null
+check "files with their own frames: meshed, every point inside" python3 -c "
+import json, sys; r = json.load(open(sys.argv[1])); assert r['points_read'] == 100000 and r['points_outside'] == 0, r" "$dir/vary.json"
+head -c 200000 "$dir/sv-2.las" > "$dir/cut.las"
+"$lasmesh" "$dir/sv-0.las" "$dir/cut.las" -o "$dir/cut.ply" 2> "$dir/cut.txt"; rc=$?
+check "a truncated file of several: exit 2, nothing written" test "$rc" -eq 2 -a ! -e "$dir/cut.ply"
+check "a truncated file of several: named, and --skip-bad-inputs offered" contains "$dir/cut.txt" "cut.las: ends at byte 200000.*(--skip-bad-inputs)"
+"$lasmesh" "$dir/sv-0.las" "$dir/cut.las" -o "$dir/cut.ply" --skip-bad-inputs 2> "$dir/cut.txt"; rc=$?
+check "--skip-bad-inputs: meshed without it, and said" test "$rc" -eq 0 -a -s "$dir/cut.ply"
+check "--skip-bad-inputs: the summary names it" contains "$dir/cut.txt" "^skipped        .*cut.las: ends at byte 200000"
+
 finish "cli mesh"

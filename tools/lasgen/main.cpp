@@ -34,6 +34,8 @@ struct Options {
     std::vector<int> color;
     std::string output = "-";
     std::string order = "random";
+    std::uint32_t split = 1; // write the points into this many files
+    bool split_vary = false; // each file of a split its own offset, scale and point format
 };
 
 // A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
@@ -48,6 +50,55 @@ std::uint64_t morton_key(const lasmesh::Vec3& p, const lasmesh::Vec3& min) {
 
 void write_all(std::FILE* out, const std::byte* data, std::size_t size, const std::string& name) {
     if (std::fwrite(data, 1, size, out) != size)
+        throw std::runtime_error("cannot write " + name + ": " + std::strerror(errno));
+}
+
+// Points [first_index, first_index + count_all) of the scene as one LAS file.
+void write_points(const Options& o, const lasgen::Scene& scene, const lasgen::LasLayout& layout,
+                  std::uint64_t first_index, std::uint64_t count_all, const std::string& output) {
+    // Quantisation moves a point by up to half a step: widen the bounds by one step.
+    lasmesh::Vec3 min = scene.min, max = scene.max;
+    for (int a = 0; a < 3; ++a) min[a] -= o.scale, max[a] += o.scale;
+
+    std::ostringstream description;
+    description << "scene=" << scene.name << " points=" << o.points << " seed=" << o.seed;
+    if (o.split > 1) description << " part=" << first_index << "+" << count_all;
+    const auto head = lasgen::las_file_head(layout, count_all, min, max, description.str());
+
+    std::FILE* out = output == "-" ? stdout : std::fopen(output.c_str(), "wb");
+    if (!out) throw std::runtime_error("cannot create " + output + ": " + std::strerror(errno));
+    const std::string name = output == "-" ? "standard output" : output;
+    write_all(out, head.data(), head.size(), name);
+
+    const std::size_t length = lasgen::record_length(layout);
+    // 2^18 records a batch, fewer when records are long (at most 32 MiB of them) or fewer are
+    // asked for: --extra-bytes 65501 took 17 GB for 100 points. (Scan order sorts each batch, so
+    // batches stay 2^18 points for records up to 128 bytes: those files are unchanged.)
+    const std::uint64_t batch = std::max<std::uint64_t>(
+        1,
+        std::min<std::uint64_t>({std::uint64_t{1} << 18, (32u << 20) / length, std::max<std::uint64_t>(1, count_all)}));
+    std::vector<std::byte> buffer(batch * length);
+    std::vector<lasgen::GeneratedPoint> points(batch);
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(batch);
+    const bool scan_order = o.order == "scan";
+    for (std::uint64_t first = first_index; first < first_index + count_all; first += batch) {
+        const std::size_t count = static_cast<std::size_t>(std::min(batch, first_index + count_all - first));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                points[i] = lasgen::generate_point(scene, o.seed, first + i);
+                keys[i] = {scan_order ? morton_key(points[i].position, scene.min) : 0, static_cast<std::uint32_t>(i)};
+            }
+        });
+        // Scan order imitates a scanner's acquisition order: each batch of points sorted along a
+        // space-filling curve, so consecutive records lie centimetres apart.
+        if (scan_order) std::sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i)
+                lasgen::encode_record(layout, points[keys[i].second], first + i, buffer.data() + i * length);
+        });
+        write_all(out, buffer.data(), count * length, name);
+    }
+    if (std::fflush(out) != 0 || (out != stdout && std::fclose(out) != 0))
         throw std::runtime_error("cannot write " + name + ": " + std::strerror(errno));
 }
 
@@ -74,50 +125,29 @@ void generate(const Options& o) {
     layout.scale = {o.scale, o.scale, o.scale};
     layout.epsg = o.epsg;
     for (int a = 0; a < 3; ++a) layout.offset[a] = std::floor(scene.min[a]);
-    // Quantisation moves a point by up to half a step: widen the bounds by one step.
-    lasmesh::Vec3 min = scene.min, max = scene.max;
-    for (int a = 0; a < 3; ++a) min[a] -= o.scale, max[a] += o.scale;
-
-    std::ostringstream description;
-    description << "scene=" << scene.name << " points=" << o.points << " seed=" << o.seed;
-    const auto head = lasgen::las_file_head(layout, o.points, min, max, description.str());
-
-    std::FILE* out = o.output == "-" ? stdout : std::fopen(o.output.c_str(), "wb");
-    if (!out) throw std::runtime_error("cannot create " + o.output + ": " + std::strerror(errno));
-    const std::string name = o.output == "-" ? "standard output" : o.output;
-    write_all(out, head.data(), head.size(), name);
-
-    const std::size_t length = lasgen::record_length(layout);
-    // 2^18 records a batch, fewer when records are long (at most 32 MiB of them) or fewer are
-    // asked for: --extra-bytes 65501 took 17 GB for 100 points. (Scan order sorts each batch, so
-    // batches stay 2^18 points for records up to 128 bytes: those files are unchanged.)
-    const std::uint64_t batch =
-        std::max<std::uint64_t>(1, std::min<std::uint64_t>({std::uint64_t{1} << 18, (32u << 20) / length, o.points}));
-    std::vector<std::byte> buffer(batch * length);
-    std::vector<lasgen::GeneratedPoint> points(batch);
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(batch);
-    const bool scan_order = o.order == "scan";
-    for (std::uint64_t first = 0; first < o.points; first += batch) {
-        const std::size_t count = static_cast<std::size_t>(std::min(batch, o.points - first));
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                points[i] = lasgen::generate_point(scene, o.seed, first + i);
-                keys[i] = {scan_order ? morton_key(points[i].position, scene.min) : 0, static_cast<std::uint32_t>(i)};
-            }
-        });
-        // Scan order imitates a scanner's acquisition order: each batch of points sorted along a
-        // space-filling curve, so consecutive records lie centimetres apart.
-        if (scan_order) std::sort(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count));
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i)
-                lasgen::encode_record(layout, points[keys[i].second], first + i, buffer.data() + i * length);
-        });
-        write_all(out, buffer.data(), count * length, name);
+    if (o.split <= 1) {
+        write_points(o, scene, layout, 0, o.points, o.output);
+        return;
     }
-    if (std::fflush(out) != 0 || (out != stdout && std::fclose(out) != 0))
-        throw std::runtime_error("cannot write " + name + ": " + std::strerror(errno));
+    // A survey delivered as several files: file k holds points [k n / N, (k + 1) n / N) of the
+    // single file, so together they hold exactly its points.
+    if (o.output == "-") throw std::invalid_argument("--split writes files: give -o NAME.las");
+    const std::string path = o.output, stem = path.substr(0, path.rfind('.')), ext = path.substr(stem.size());
+    const std::size_t width = std::to_string(o.split - 1).size();
+    for (std::uint32_t k = 0; k < o.split; ++k) {
+        lasgen::LasLayout file = layout;
+        if (o.split_vary) { // a whole number of metres apart, and every third file in another format
+            for (int a = 0; a < 3; ++a) file.offset[a] += k % 7;
+            if (k % 2 == 1) file.scale = {o.scale / 2, o.scale / 2, o.scale / 2};
+            if (k % 3 == 1) file.point_format = 2;
+            if (k % 3 == 2) file.point_format = 7, file.version_minor = 4;
+        }
+        std::string number = std::to_string(k);
+        number.insert(0, width - number.size(), '0');
+        const std::uint64_t first = o.points * k / o.split, end = o.points * (k + 1) / o.split;
+        write_points(o, scene, file, first, end - first, stem + "-" + number + ext);
+    }
 }
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -147,6 +177,13 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->check(CLI::Range(0, 255));
     app.add_option("-o,--output", o.output, "Output file, or - for standard output")->capture_default_str();
+    app.add_option("--split", o.split,
+                   "Write the points into N files NAME-0.las ... (a survey of several files), together "
+                   "exactly the points of the single file")
+        ->check(CLI::Range(1, 100000));
+    app.add_flag("--split-vary", o.split_vary,
+                 "Each file of --split its own offset (whole metres apart), odd files half the scale, every "
+                 "third file in point format 2 or 7");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

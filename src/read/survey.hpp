@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: Apache-2.0
+// A survey: the inputs of one run (a scan delivered as many files: one per station, flight line
+// or tile) read as one stream of point records in one record layout and one fixed-point frame.
+// The grid decides cells and sums positions in raw integers (kernels/accumulate.cl), so records
+// of files with other scales or offsets are brought into the survey's frame on the host first;
+// records of files that agree with it are handed out as they are, byte for byte. The frame, the
+// layout and the bounds are chosen from the set of files, never from their order, so the sums,
+// and the mesh, do not depend on the order of the inputs.
+//
+// Memory: one file is open at a time, and each file costs a SurveyFile (a path and a few
+// numbers), so 10,000 small files cost about what one large one does.
+#pragma once
+
+#include "lasmesh/las_reader.hpp"
+#include "lasmesh/mesh.hpp"
+#include "read/crs.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace lasmesh {
+
+// What a run keeps of one input's header while it reads the others.
+struct SurveyFile {
+    std::string path;
+    std::uint64_t point_count = 0;
+    std::uint8_t point_format = 0;
+    std::uint16_t record_length = 0;
+    Vec3 scale{}, offset{}, min{}, max{};
+    std::uint64_t bytes = 0; // the file's size (compressed size for a compressed stream), for progress
+};
+
+// An input left out (with skip_bad), and why: the error it gave.
+struct SkippedInput {
+    std::string path, reason;
+};
+
+struct Survey {
+    std::vector<SurveyFile> files; // in the order given, those with points and those without
+    std::vector<SkippedInput> skipped;
+    // The records as SurveyReader hands them out: the point format and record length shared by
+    // every file (else format 2, or 0 when no file has colour, holding only X, Y, Z and colour),
+    // the frame's scale and offset, the union of the files' bounds, the total count.
+    LasHeader header;
+    // The CRS the files declare (they must agree); files that declare none are taken to be in
+    // it (said in `notes`). Empty when no file declares one.
+    std::optional<CrsInfo> crs;
+    std::vector<std::string> notes; // "note: ..." lines for the run's warnings
+};
+
+// Reads the header of every input ("-" is refused: a survey reads each file twice, header first)
+// and chooses the frame and layout. Throws Error (input) naming the file that cannot be read, or
+// the two files whose coordinate systems differ; with `skip_bad`, a file that cannot be read is
+// left out and listed in `skipped` instead (no input left is still an error). Headers whose
+// bounds are damaged are refused unless `check_bounds` is false (bounds given, or scanned).
+Survey read_survey(const std::vector<std::string>& paths, bool skip_bad, bool check_bounds);
+
+// An Error's option with skip_bad_inputs added: a bad file of several can be left out.
+std::string with_skip_option(const std::string& option);
+
+// The survey without files[index] (a file that failed while its points were read): the frame,
+// layout and bounds chosen again from the others, as if it had never been given.
+Survey survey_without(const Survey& survey, std::size_t index, const std::string& reason);
+
+// The survey's header as the files' own headers give it: the frame, layout, bounds and count
+// chosen from `files` (and the CRS fields left as they are).
+void choose_frame(Survey& survey);
+
+// The records of one input (a LasReader already open: standard input too), or of every file of
+// a survey one after the other, in the survey's layout and frame.
+class SurveyReader {
+  public:
+    explicit SurveyReader(LasReader& single);
+    explicit SurveyReader(const Survey& survey);
+    ~SurveyReader();
+
+    const LasHeader& header() const { return *header_; }
+    const std::string& name() const { return name_; } // the input's name, or "64 files"
+    std::uint64_t records_left() const { return header_->point_count - records_read_; }
+
+    // Fills `dst` with up to dst.size() / record length whole records, going on into the next
+    // file as each ends; 0 once every record is read. Throws Error (input) as LasReader does,
+    // naming the file; failed_file() then says which.
+    std::size_t read_records(std::span<std::byte> dst);
+
+    // The bytes read so far and in all (compressed bytes for compressed streams), for progress.
+    std::uint64_t bytes_read() const;
+    std::optional<std::uint64_t> bytes_total() const;
+    // The warnings of the files read to their end: records past the header's count and the like.
+    const std::vector<std::string>& warnings() const { return warnings_; }
+    // The index in the survey's files of the file whose read threw; nullopt for a single input.
+    std::optional<std::size_t> failed_file() const { return failed_; }
+
+  private:
+    void open_next();
+    void finish_current();
+
+    LasReader* single_ = nullptr;
+    const Survey* survey_ = nullptr;
+    const LasHeader* header_ = nullptr;
+    std::string name_;
+    std::unique_ptr<LasReader> current_;
+    std::size_t next_ = 0; // the survey's next file to open
+    std::uint64_t records_read_ = 0, bytes_done_ = 0;
+    std::vector<std::byte> scratch_; // a file's records before they are brought into the layout
+    std::vector<std::string> warnings_;
+    std::optional<std::size_t> failed_;
+};
+
+} // namespace lasmesh

@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: Apache-2.0
+// A survey of several files meshed as one cloud: the same mesh as one file holding all the points,
+// whatever the order of the files, their offsets, scales and point formats; bad files stop the run
+// or, when asked, are left out exactly; coordinate systems must agree.
+#include "grid/cell_sums.hpp"
+#include "lasmesh/build_mesh.hpp"
+#include "lasmesh/error.hpp"
+#include "measure/mesh_distance.hpp"
+#include "read/survey.hpp"
+
+#include <doctest/doctest.h>
+
+#include "test_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+using namespace lasmesh;
+
+namespace {
+
+constexpr std::uint64_t points = 60000;
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+// A deck scene (at UTM-like coordinates, where offsets matter) and its files.
+struct Split {
+    test::TempDir dir;
+    lasgen::Scene scene = [] {
+        lasgen::SceneOptions options;
+        options.origin = {431250, 6700200, 10};
+        return lasgen::make_scene(options);
+    }();
+    lasgen::LasLayout layout() const {
+        lasgen::LasLayout l;
+        for (int a = 0; a < 3; ++a) l.offset[a] = std::floor(scene.min[a]);
+        return l;
+    }
+    std::string whole() const {
+        const std::string path = dir.file("whole.las");
+        test::write_file(path, test::make_las_part(layout(), scene, 0, points));
+        return path;
+    }
+    // The points in `parts` files, file k in layouts[k % layouts.size()].
+    std::vector<std::string> split(const std::string& name, std::size_t parts,
+                                   const std::vector<lasgen::LasLayout>& layouts) const {
+        std::vector<std::string> paths;
+        for (std::size_t k = 0; k < parts; ++k) {
+            paths.push_back(dir.file(name + std::to_string(k) + ".las"));
+            const std::uint64_t first = points * k / parts, end = points * (k + 1) / parts;
+            test::write_file(paths.back(), test::make_las_part(layouts[k % layouts.size()], scene, first, end - first));
+        }
+        return paths;
+    }
+    BuildOptions options(const std::string& output) const {
+        BuildOptions o;
+        o.grid = GridRequest::longest(96);
+        o.outputs.push_back({dir.file(output)});
+        o.keep_mesh = true;
+        return o;
+    }
+};
+
+Error error_of(const std::vector<std::string>& inputs, const BuildOptions& options) {
+    try {
+        build_mesh(inputs, options);
+    } catch (const Error& e) {
+        return e;
+    }
+    FAIL("no error");
+    return Error(ErrorKind::usage, "");
+}
+
+// The mean distance from the vertices of `a` to the surface of `b`, in world units.
+double mean_distance(const Mesh& a, const Mesh& b) {
+    const TriangleSearch search(b);
+    double sum = 0;
+    for (const auto& p : a.positions) {
+        const Vec3 world{p[0] + a.origin[0] - b.origin[0], p[1] + a.origin[1] - b.origin[1],
+                         p[2] + a.origin[2] - b.origin[2]};
+        sum += search.distance(world);
+    }
+    return a.positions.empty() ? INFINITY : sum / static_cast<double>(a.positions.size());
+}
+
+} // namespace
+
+TEST_CASE("survey: files in one frame mesh to the single file's bytes, in any order") {
+    Split s;
+    const std::string whole = s.whole();
+    std::vector<std::string> parts = s.split("part", 5, {s.layout()});
+    build_mesh(whole, s.options("whole.ply"));
+    const BuildResult result = build_mesh(parts, s.options("parts.ply"));
+    CHECK(result.report.input == "5 files");
+    CHECK(result.report.input_files == 5);
+    CHECK(result.report.points_read == points);
+    CHECK(test::read_file(s.dir.file("parts.ply")) == test::read_file(s.dir.file("whole.ply")));
+    std::reverse(parts.begin(), parts.end());
+    std::rotate(parts.begin(), parts.begin() + 2, parts.end());
+    build_mesh(parts, s.options("shuffled.ply"));
+    CHECK(test::read_file(s.dir.file("shuffled.ply")) == test::read_file(s.dir.file("whole.ply")));
+}
+
+TEST_CASE("survey: files with their own offsets, scales and formats: one frame, the same sums, any order") {
+    Split s;
+    const std::string whole = s.whole();
+    std::vector<lasgen::LasLayout> layouts(3, s.layout());
+    layouts[1].offset = {431000, 6700000, 0}; // whole metres apart: brought over exactly
+    layouts[1].point_format = 2;              // another record layout
+    layouts[2].point_format = 7, layouts[2].version_minor = 4;
+    layouts[2].offset = {431250.37, 6700200.11, 10.5}; // still whole steps of the scale apart
+    std::vector<std::string> parts = s.split("part", 6, layouts);
+
+    // The same points in another frame and layout: every cell's count and sums the same.
+    AccumulateOptions accumulate;
+    accumulate.grid = GridRequest::longest(96);
+    LasReader one_reader(whole);
+    const CellGrid one_grid = accumulate_cells(one_reader, test::device(), accumulate);
+    const lasmesh::Survey survey = read_survey(parts, false, true);
+    CHECK(survey.header.offset == std::array<double, 3>{431000, 6700000, 0});
+    CHECK(survey.header.point_format == 2);
+    SurveyReader parts_reader(survey);
+    const CellGrid parts_grid = accumulate_cells(parts_reader, test::device(), accumulate);
+    REQUIRE(parts_grid.spec.dims == one_grid.spec.dims);
+    std::uint64_t cells = 0, same = 0;
+    one_grid.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t record) {
+        const CellSums& a = one_grid.cells[record];
+        const CellSums* b = parts_grid.find(at[0], at[1], at[2]);
+        ++cells;
+        same += b && b->count == a.count && b->position == a.position && b->color == a.color;
+    });
+    CHECK(cells == parts_grid.occupied_cells());
+    CHECK(same == cells);
+
+    // The mesh: the centroids differ by rounding (1e-10 of a cell), which the sheet's ties
+    // turn into a few other triangles: within a hundredth of a cell on average.
+    BuildOptions o = s.options("whole.ply");
+    o.simplify.error = 0; // the extracted surfaces themselves
+    const BuildResult one = build_mesh(whole, o);
+    const double cell = one.report.grid.cell_size;
+    o.outputs[0].path = s.dir.file("parts.ply");
+    const BuildResult all = build_mesh(parts, o);
+    REQUIRE(all.mesh);
+    CHECK(all.report.points_read == points);
+    CHECK(all.report.colored);
+    CHECK(mean_distance(*all.mesh, *one.mesh) <= 0.01 * cell);
+    CHECK(mean_distance(*one.mesh, *all.mesh) <= 0.01 * cell);
+    std::reverse(parts.begin(), parts.end());
+    o.outputs[0].path = s.dir.file("reversed.ply");
+    build_mesh(parts, o);
+    CHECK(test::read_file(s.dir.file("reversed.ply")) == test::read_file(s.dir.file("parts.ply")));
+
+    // Files at half the scale hold other points (rounded to 0.5 mm, not 1 mm): the frame takes
+    // the finer scale, and the surface moves as little as those points do, cells near the iso
+    // flipping: within 2% of a cell (a file brought over a step off would be a cell off).
+    layouts[0].scale = {0.0005, 0.0005, 0.0005};
+    o.outputs[0].path = s.dir.file("finer.ply");
+    const BuildResult finer = build_mesh(s.split("finer", 6, layouts), o);
+    REQUIRE(finer.mesh);
+    CHECK(mean_distance(*finer.mesh, *one.mesh) <= 0.02 * cell);
+    CHECK(mean_distance(*one.mesh, *finer.mesh) <= 0.02 * cell);
+}
+
+TEST_CASE("survey: the frame is chosen from the set of files, fits 32 bits, and keeps the finest scale") {
+    lasmesh::Survey survey;
+    SurveyFile a, b;
+    a.point_count = b.point_count = 10;
+    a.point_format = b.point_format = 3, a.record_length = b.record_length = 34;
+    a.scale = {0.01, 0.01, 0.01}, a.offset = {100, 200, 0}, a.min = {100, 200, 0}, a.max = {150, 250, 5};
+    b.scale = {0.001, 0.01, 0.01}, b.offset = {90, 200, 0}, b.min = {120, 220, 1}, b.max = {190, 260, 9};
+    survey.files = {a, b};
+    choose_frame(survey);
+    const LasHeader first = survey.header;
+    CHECK(first.scale == std::array<double, 3>{0.001, 0.01, 0.01});
+    CHECK(first.offset == std::array<double, 3>{90, 200, 0});
+    CHECK(first.min == std::array<double, 3>{100, 200, 0});
+    CHECK(first.max == std::array<double, 3>{190, 260, 9});
+    CHECK(first.point_count == 20);
+    std::swap(survey.files[0], survey.files[1]);
+    choose_frame(survey);
+    CHECK(survey.header.scale == first.scale);
+    CHECK(survey.header.offset == first.offset);
+    // 40 km at a tenth of a millimetre does not fit 32 bits from the smallest offset: centred.
+    survey.files[0].scale[0] = survey.files[1].scale[0] = 0.0001;
+    survey.files[0].offset[0] = -200000, survey.files[1].max[0] = 400000;
+    choose_frame(survey);
+    const double centre = (100.0 + 400000) / 2;
+    CHECK(std::abs(survey.header.offset[0] - centre) <= survey.header.scale[0]);
+    CHECK((400000 - survey.header.offset[0]) / survey.header.scale[0] < 2147483647.0);
+    // Records in one layout: format 2 when a file's format differs (colour kept).
+    survey.files[1].point_format = 1, survey.files[1].record_length = 28;
+    choose_frame(survey);
+    CHECK(survey.header.point_format == 2);
+    CHECK(survey.header.point_record_length == 26);
+}
+
+TEST_CASE("survey: a bad file stops the run with its name, or with skip_bad_inputs is left out exactly") {
+    Split s;
+    std::vector<std::string> parts = s.split("part", 4, {s.layout()});
+    // part2 ends 100 records early: it fails part-way through its points.
+    test::Bytes cut = test::read_file(parts[2]);
+    cut.resize(cut.size() - 100 * 34);
+    test::write_file(parts[2], cut);
+    const std::string junk = s.dir.file("junk.las");
+    test::write_file(junk, test::Bytes(500, std::byte{7})); // fails at its header
+    std::vector<std::string> inputs = parts;
+    inputs.push_back(junk);
+    BuildOptions o = s.options("out.ply");
+    o.report = s.dir.file("out.json");
+    const Error e = error_of(inputs, o);
+    CHECK(e.kind() == ErrorKind::input);
+    CHECK(contains(e.what(), "junk.las"));
+    CHECK(!std::filesystem::exists(s.dir.file("out.ply")));
+    inputs.pop_back();
+    const Error truncated = error_of(inputs, o);
+    CHECK(contains(truncated.what(), "part2.las"));
+    CHECK(contains(truncated.what(), "truncated"));
+    CHECK(truncated.option() == "skip_bad_inputs"); // the command line names --skip-bad-inputs
+    CHECK(!std::filesystem::exists(s.dir.file("out.ply")));
+    CHECK(!std::filesystem::exists(s.dir.file("out.json")));
+
+    inputs.push_back(junk);
+    o.skip_bad_inputs = true;
+    const BuildResult skipped = build_mesh(inputs, o);
+    REQUIRE(skipped.report.skipped_inputs.size() == 2);
+    CHECK(contains(skipped.report.skipped_inputs[0], "junk.las"));
+    CHECK(contains(skipped.report.skipped_inputs[1], "part2.las"));
+    CHECK(skipped.report.input_files == 3);
+    const test::Bytes report = test::read_file(s.dir.file("out.json"));
+    CHECK(contains(std::string(reinterpret_cast<const char*>(report.data()), report.size()), "part2.las"));
+    build_mesh(std::vector<std::string>{parts[0], parts[1], parts[3]}, s.options("good.ply"));
+    CHECK(test::read_file(s.dir.file("out.ply")) == test::read_file(s.dir.file("good.ply")));
+}
+
+TEST_CASE("survey: one coordinate system; an input given twice, or standard input among several, refused") {
+    Split s;
+    std::vector<lasgen::LasLayout> layouts(3, s.layout());
+    layouts[0].epsg = layouts[1].epsg = 32631;
+    std::vector<std::string> parts = s.split("utm", 3, layouts); // the third declares none
+    const BuildResult result = build_mesh(parts, s.options("utm.ply"));
+    CHECK(result.report.crs_recorded == "EPSG:32631");
+    CHECK(std::any_of(result.report.warnings.begin(), result.report.warnings.end(), [](const std::string& w) {
+        return contains(w, "declare no coordinate system") && contains(w, "utm2.las");
+    }));
+    layouts[2].epsg = 32632;
+    parts = s.split("mixed", 3, layouts);
+    BuildOptions o = s.options("mixed.ply");
+    o.skip_bad_inputs = true; // not a bad file: which CRS would be meant?
+    const Error e = error_of(parts, o);
+    CHECK(e.kind() == ErrorKind::input);
+    CHECK(contains(e.what(), "mixed2.las"));
+    CHECK(contains(e.what(), "32632"));
+    CHECK(contains(e.what(), "mixed0.las"));
+    CHECK(error_of({parts[0], parts[1], parts[0]}, o).kind() == ErrorKind::usage);
+    CHECK(error_of({parts[0], "-"}, o).kind() == ErrorKind::usage);
+    CHECK(!std::filesystem::exists(s.dir.file("mixed.ply")));
+}
