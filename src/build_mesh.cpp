@@ -214,30 +214,8 @@ std::vector<MeshFormat> check_options(const std::vector<std::string>& inputs, co
     return formats;
 }
 
-// The coordinate system the outputs record, from what the input declares (`name` for messages).
-void describe_crs(const std::optional<CrsInfo>& crs, const LasHeader& header, const std::string& name, RunReport& r) {
-    if (!crs) return;
-    // Cubic cells need one unit on every axis: degrees of longitude and latitude are neither
-    // the same length as each other nor as the metres of z. Files that declare degrees but
-    // hold other numbers (writers copy a CRS they did not use) are meshed in their units.
-    const bool in_degrees =
-        header.min[0] >= -180 && header.max[0] <= 360 && header.min[1] >= -90 && header.max[1] <= 90;
-    if (crs->geographic() && in_degrees)
-        throw_input_error(name, "its x and y are longitude and latitude in degrees (" + crs_summary(*crs) +
-                                    "): cells must be cubes in one unit, so project the file "
-                                    "to a projected CRS in metres or feet first");
-    r.crs = crs_summary(*crs);
-    if (crs->geographic()) {
-        r.crs += " (not used: its x and y are not degrees)";
-        r.warnings.push_back("warning: " + name + " declares " + crs_summary(*crs) +
-                             ", but its x and y are not longitudes and latitudes: the declaration is wrong, "
-                             "and no CRS is recorded in the outputs");
-    } else if (crs->identified()) {
-        r.crs_recorded = crs_for_outputs(*crs);
-    }
-}
-
-// The union of the survey's files' scanned bounds (a first pass over every record). With
+// The union of the survey's files' scanned bounds (a first pass over every record), in the
+// survey's CRS. With
 // skip_bad, a file that fails is left out of the survey.
 Bounds scanned_bounds(Survey& survey, bool skip_bad) {
     std::optional<Bounds> all;
@@ -256,6 +234,10 @@ Bounds scanned_bounds(Survey& survey, bool skip_bad) {
             continue;
         }
         if (scan.point_count > 0) {
+            if (const auto& transform = survey.files[i].transform) { // into the survey's CRS
+                const Bounds box = transform->bounds(Bounds{scan.min, scan.max});
+                scan.min = box.min, scan.max = box.max;
+            }
             if (!all) all = Bounds{scan.min, scan.max};
             for (int a = 0; a < 3; ++a) {
                 all->min[a] = std::min(all->min[a], scan.min[a]);
@@ -288,30 +270,31 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     accumulate.bounds = o.bounds;
     accumulate.slice_bytes = o.slice_bytes;
     accumulate.max_memory = o.max_memory;
-    // One input is opened once (standard input too); several are surveyed first, headers only.
+    // The headers first: the CRS, the frame, the bounds. One input is opened once (standard input
+    // too); several each twice, header first.
     std::unique_ptr<LasReader> single;
-    std::optional<Survey> survey;
+    SurveyOptions survey_options;
+    survey_options.skip_bad = o.skip_bad_inputs;
+    survey_options.check_bounds = !o.bounds && !o.scan_bounds;
+    survey_options.crs = o.crs;
     if (inputs.size() == 1) {
-        if (o.scan_bounds) {
-            const ScanResult scan = scan_file(inputs.front());
-            accumulate.bounds = Bounds{scan.min, scan.max};
-        }
+        if (o.scan_bounds) check_rereadable(inputs.front());
         single = std::make_unique<LasReader>(inputs.front());
-        const LasHeader& header = single->header();
         // An empty mesh is no use and Draco cannot encode one: say so before any device work.
-        if (header.point_count == 0)
+        if (single->header().point_count == 0)
             throw_input_error(single->stream().name(),
                               "the header promises no point records (point count 0): nothing to mesh");
-        if (!accumulate.bounds) check_header_bounds_usable(header, single->stream().name());
-        describe_crs(read_crs(header), header, single->stream().name(), r);
-    } else {
-        survey = read_survey(inputs, o.skip_bad_inputs, !o.bounds && !o.scan_bounds);
-        if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(*survey, o.skip_bad_inputs);
-        if (survey->header.point_count == 0)
-            throw Error(ErrorKind::input, "the headers of the " + std::to_string(survey->files.size()) +
-                                              " inputs promise no point records: nothing to mesh");
-        describe_crs(survey->crs, survey->header, std::to_string(survey->files.size()) + " inputs", r);
-        r.warnings.insert(r.warnings.end(), survey->notes.begin(), survey->notes.end());
+    }
+    Survey survey = read_survey(inputs, survey_options, single.get());
+    if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
+    if (survey.header.point_count == 0)
+        throw Error(ErrorKind::input, "the headers of the " + std::to_string(survey.files.size()) +
+                                          " inputs promise no point records: nothing to mesh");
+    r.warnings.insert(r.warnings.end(), survey.notes.begin(), survey.notes.end());
+    if (survey.crs) {
+        r.crs = survey.crs_line;
+        if (survey.crs->identified()) r.crs_recorded = crs_for_outputs(*survey.crs);
+        if (survey.crs->unit_metres > 0) r.unit = survey.crs->unit;
     }
     ComputeDevice device(o.device);
     r.device = device.info().name;
@@ -319,11 +302,11 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     CellGrid grid;
     bool header_color = false;
     for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
-        SurveyReader reader = single ? SurveyReader(*single) : SurveyReader(*survey);
+        SurveyReader reader(survey, single.get());
         const LasHeader& header = reader.header();
         r.input = reader.name();
         watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
-        if (single)
+        if (single && !survey.files.front().transform)
             watch.detail("reading        " + r.input + ": LAS " + version_string(header) + ", point format " +
                          std::to_string(header.point_format) + ", " + std::to_string(header.point_count) +
                          " points promised");
@@ -342,20 +325,18 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
         try {
             grid = accumulate_cells(reader, device, accumulate);
         } catch (const Error& e) {
-            if (!survey || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
+            if (single || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
             if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
-            *survey = survey_without(*survey, *reader.failed_file(), e.what());
-            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(*survey, o.skip_bad_inputs);
+            survey = survey_without(survey, *reader.failed_file(), e.what());
+            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
             continue;
         }
         r.warnings.insert(r.warnings.end(), reader.warnings().begin(), reader.warnings().end());
         header_color = has_color(header);
         break;
     }
-    if (survey) {
-        r.input_files = survey->files.size();
-        for (const SkippedInput& skipped : survey->skipped) r.skipped_inputs.push_back(skipped.reason);
-    }
+    r.input_files = survey.files.size();
+    for (const SkippedInput& skipped : survey.skipped) r.skipped_inputs.push_back(skipped.reason);
     r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;

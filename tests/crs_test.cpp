@@ -99,20 +99,8 @@ TEST_CASE("crs: a WKT VLR is read, identified without an id, and a broken one is
     CHECK(crs_summary(*broken).find("not identified") != std::string::npos);
 }
 
-TEST_CASE("crs: meshing refuses degrees; a projected CRS is reported and recorded in every output") {
+TEST_CASE("crs: a projected CRS is reported and recorded in every output") {
     test::TempDir dir;
-    BuildOptions degrees;
-    degrees.grid = GridRequest::longest(64);
-    degrees.outputs.push_back(output(dir.file("d.ply")));
-    try {
-        build_mesh(deck_with_crs(dir, "wgs84.las", 4326, {0, 0, 0}), degrees);
-        FAIL("meshed in degrees");
-    } catch (const Error& e) {
-        CHECK(e.kind() == ErrorKind::input);
-        CHECK(std::string(e.what()).find("longitude and latitude in degrees") != std::string::npos);
-    }
-    CHECK_FALSE(std::filesystem::exists(dir.file("d.ply")));
-
     BuildOptions o;
     o.grid = GridRequest::longest(64);
     for (const char* name : {"m.ply", "m.drc", "m.glb"}) o.outputs.push_back(output(dir.file(name)));

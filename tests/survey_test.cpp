@@ -2,10 +2,14 @@
 // A survey of several files meshed as one cloud: the same mesh as one file holding all the points,
 // whatever the order of the files, their offsets, scales and point formats; bad files stop the run
 // or, when asked, are left out exactly; coordinate systems must agree.
+#include "byte_order.hpp"
 #include "grid/cell_sums.hpp"
 #include "lasmesh/build_mesh.hpp"
+#include "lasmesh/compare.hpp"
 #include "lasmesh/error.hpp"
+#include "lasmesh/mesh_files.hpp"
 #include "measure/mesh_distance.hpp"
+#include "read/crs_transform.hpp"
 #include "read/survey.hpp"
 
 #include <doctest/doctest.h>
@@ -14,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 using namespace lasmesh;
@@ -119,7 +124,7 @@ TEST_CASE("survey: files with their own offsets, scales and formats: one frame, 
     accumulate.grid = GridRequest::longest(96);
     LasReader one_reader(whole);
     const CellGrid one_grid = accumulate_cells(one_reader, test::device(), accumulate);
-    const lasmesh::Survey survey = read_survey(parts, false, true);
+    const lasmesh::Survey survey = read_survey(parts, SurveyOptions{});
     CHECK(survey.header.offset == std::array<double, 3>{431000, 6700000, 0});
     CHECK(survey.header.point_format == 2);
     SurveyReader parts_reader(survey);
@@ -162,6 +167,51 @@ TEST_CASE("survey: files with their own offsets, scales and formats: one frame, 
     REQUIRE(finer.mesh);
     CHECK(mean_distance(*finer.mesh, *one.mesh) <= 0.02 * cell);
     CHECK(mean_distance(*one.mesh, *finer.mesh) <= 0.02 * cell);
+}
+
+TEST_CASE("survey: each record lands where its file put it: exactly, or on the frame's nearest step") {
+    Split s;
+    std::vector<lasgen::LasLayout> layouts(4, s.layout());
+    layouts[1].offset = {431000, 6700000, 0};
+    layouts[1].point_format = 1;    // no colour: the survey's records get colour 0
+    layouts[2].offset[0] += 0.0004; // between the frame's steps: rounded to the nearest
+    layouts[3].scale = {0.0005, 0.0005, 0.0005};
+    const std::vector<std::string> parts = s.split("part", 4, layouts);
+    const lasmesh::Survey survey = read_survey(parts, SurveyOptions{});
+    REQUIRE(survey.header.point_format == 2);
+    const double step = survey.header.scale[0];
+    CHECK(step == 0.0005);
+    SurveyReader records(survey);
+    const std::size_t length = survey.header.point_record_length;
+    std::vector<std::byte> buffer(4096 * length);
+    std::vector<LasPoint> expected(4096);
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        LasReader file(parts[k]);
+        double worst = 0;
+        bool colour_kept = true;
+        while (const std::size_t n = read_points(file, expected)) {
+            REQUIRE(records.read_records({buffer.data(), n * length}) == n);
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::byte* record = buffer.data() + i * length;
+                for (int a = 0; a < 3; ++a) {
+                    std::int32_t raw = 0;
+                    std::memcpy(&raw, record + 4 * a, 4); // little-endian hosts only run these tests
+                    const double at = raw * survey.header.scale[a] + survey.header.offset[a];
+                    worst = std::max(worst, std::abs(at - expected[i].position[a]));
+                }
+                std::array<std::uint16_t, 3> color{};
+                std::memcpy(color.data(), record + 20, 6);
+                colour_kept = colour_kept && color == expected[i].color;
+            }
+        }
+        CAPTURE(k);
+        // part2's points lie 0.4 mm off the frame's 0.5 mm steps: 0.1 mm from the nearest, where
+        // they land (rounding down would move them 0.4 mm).
+        CHECK(worst <= (k == 2 ? 0.0001 + 1e-9 : 1e-9));
+        CHECK(worst >= (k == 2 ? 0.0001 - 1e-9 : 0));
+        CHECK(colour_kept);
+    }
+    CHECK(records.read_records({buffer.data(), buffer.size()}) == 0);
 }
 
 TEST_CASE("survey: the frame is chosen from the set of files, fits 32 bits, and keeps the finest scale") {
@@ -235,7 +285,89 @@ TEST_CASE("survey: a bad file stops the run with its name, or with skip_bad_inpu
     CHECK(test::read_file(s.dir.file("out.ply")) == test::read_file(s.dir.file("good.ply")));
 }
 
-TEST_CASE("survey: one coordinate system; an input given twice, or standard input among several, refused") {
+// Points [first, first + count) of `scene` written in `layout` (in EPSG:from_epsg), transformed to
+// EPSG:to_epsg and stored in a fresh frame (whole units of offset, steps of `scale`), declaring it.
+test::Bytes transformed(const lasgen::LasLayout& layout, const lasgen::Scene& scene, std::uint64_t first,
+                        std::uint64_t count, int from_epsg, int to_epsg, double scale = 0.001) {
+    lasgen::LasLayout out = layout;
+    out.epsg = to_epsg;
+    test::Bytes las = test::make_las_part(out, scene, first, count);
+    const std::size_t head = load_le<std::uint32_t>(las.data() + 96), length = load_le<std::uint16_t>(las.data() + 105);
+    std::vector<double> x(count), y(count), z(count);
+    for (std::uint64_t i = 0; i < count; ++i) {
+        const std::byte* record = las.data() + head + i * length;
+        x[i] = load_le<std::int32_t>(record) * layout.scale[0] + layout.offset[0];
+        y[i] = load_le<std::int32_t>(record + 4) * layout.scale[1] + layout.offset[1];
+        z[i] = load_le<std::int32_t>(record + 8) * layout.scale[2] + layout.offset[2];
+    }
+    const CrsTransform transform(crs_from_text("EPSG:" + std::to_string(from_epsg)),
+                                 crs_from_text("EPSG:" + std::to_string(to_epsg)), "test");
+    REQUIRE(transform.apply(x.data(), y.data(), z.data(), count) == count);
+    const std::array<const std::vector<double>*, 3> values{&x, &y, &z};
+    for (int a = 0; a < 3; ++a) {
+        const double lo = *std::min_element(values[a]->begin(), values[a]->end());
+        const double hi = *std::max_element(values[a]->begin(), values[a]->end());
+        const double step = a < 2 ? scale : 0.001, offset = std::floor(lo);
+        store_le<double>(las.data() + 131 + 8 * a, step);
+        store_le<double>(las.data() + 155 + 8 * a, offset);
+        store_le<double>(las.data() + 179 + 16 * a, hi + step); // max, then min
+        store_le<double>(las.data() + 187 + 16 * a, lo - step);
+        for (std::uint64_t i = 0; i < count; ++i)
+            store_le<std::int32_t>(las.data() + head + i * length + 4 * a,
+                                   static_cast<std::int32_t>(std::lround(((*values[a])[i] - offset) / step)));
+    }
+    return las;
+}
+
+TEST_CASE("survey: files in other coordinate systems are transformed into the one most of them declare") {
+    Split s;
+    lasgen::LasLayout utm31 = s.layout();
+    utm31.epsg = 32631;
+    const std::string whole = s.dir.file("whole.las");
+    test::write_file(whole, test::make_las_part(utm31, s.scene, 0, points));
+    std::vector<std::string> parts;
+    for (int k = 0; k < 3; ++k) {
+        parts.push_back(s.dir.file("utm" + std::to_string(k) + ".las"));
+        const std::uint64_t first = points * k / 3, end = points * (k + 1) / 3;
+        // The same points, the last third as its writer in the next zone east would store them.
+        test::write_file(parts.back(), k < 2 ? test::make_las_part(utm31, s.scene, first, end - first)
+                                             : transformed(s.layout(), s.scene, first, end - first, 32631, 32632));
+    }
+    BuildOptions o = s.options("whole.ply");
+    o.simplify.error = 0;
+    o.bounds = Bounds{s.scene.min, s.scene.max}; // one grid for both: the transformed bounds are wider
+    const BuildResult one = build_mesh(whole, o);
+    o.outputs[0].path = s.dir.file("parts.ply");
+    const BuildResult all = build_mesh(parts, o);
+    REQUIRE(all.mesh);
+    CHECK(all.report.crs_recorded == "EPSG:32631");
+    CHECK(all.report.points_outside == 0);
+    // The round trip through PROJ and the 1 mm steps move points by a millimetre at most.
+    const double cell = one.report.grid.cell_size;
+    CHECK(mean_distance(*all.mesh, *one.mesh) <= 0.02 * cell);
+    CHECK(mean_distance(*one.mesh, *all.mesh) <= 0.02 * cell);
+    // Asked for the other zone: every file transformed, the mesh recorded in it.
+    o.crs = "EPSG:32632";
+    o.bounds.reset();
+    o.outputs[0].path = s.dir.file("zone32.ply");
+    const BuildResult zone32 = build_mesh(parts, o);
+    CHECK(zone32.report.crs_recorded == "EPSG:32632");
+    CHECK(zone32.report.points_outside == 0);
+    // The grid centred on the scene's centre as PROJ puts it in zone 32 (within a metre: the grid
+    // covers the transformed box, turned by the grid convergence).
+    double x = (s.scene.min[0] + s.scene.max[0]) / 2, y = (s.scene.min[1] + s.scene.max[1]) / 2, z = 0;
+    CrsTransform(crs_from_text("EPSG:32631"), crs_from_text("EPSG:32632"), "test").apply(&x, &y, &z, 1);
+    const GridSpec& grid = zone32.report.grid;
+    CHECK(std::abs(grid.origin[0] + grid.dims[0] * grid.cell_size / 2 - x) < 1);
+    CHECK(std::abs(grid.origin[1] + grid.dims[1] * grid.cell_size / 2 - y) < 1);
+    // A geographic CRS asked for is refused: cells must be cubes.
+    o.crs = "EPSG:4326";
+    o.outputs[0].path = s.dir.file("degrees.ply");
+    CHECK(error_of(parts, o).option() == "crs");
+}
+
+TEST_CASE("survey: files without a CRS are taken to be in the others'; an input given twice, or standard input "
+          "among several, refused") {
     Split s;
     std::vector<lasgen::LasLayout> layouts(3, s.layout());
     layouts[0].epsg = layouts[1].epsg = 32631;
@@ -245,16 +377,47 @@ TEST_CASE("survey: one coordinate system; an input given twice, or standard inpu
     CHECK(std::any_of(result.report.warnings.begin(), result.report.warnings.end(), [](const std::string& w) {
         return contains(w, "declare no coordinate system") && contains(w, "utm2.las");
     }));
-    layouts[2].epsg = 32632;
+    layouts[2].epsg = 32767; // user-defined: PROJ cannot build it from the keys, nor transform it
     parts = s.split("mixed", 3, layouts);
     BuildOptions o = s.options("mixed.ply");
-    o.skip_bad_inputs = true; // not a bad file: which CRS would be meant?
     const Error e = error_of(parts, o);
     CHECK(e.kind() == ErrorKind::input);
     CHECK(contains(e.what(), "mixed2.las"));
-    CHECK(contains(e.what(), "32632"));
-    CHECK(contains(e.what(), "mixed0.las"));
+    CHECK(contains(e.what(), "cannot be transformed"));
     CHECK(error_of({parts[0], parts[1], parts[0]}, o).kind() == ErrorKind::usage);
     CHECK(error_of({parts[0], "-"}, o).kind() == ErrorKind::usage);
     CHECK(!std::filesystem::exists(s.dir.file("mixed.ply")));
+}
+
+TEST_CASE("survey: a file in longitude and latitude is meshed in metres, in the UTM zone of its centre") {
+    Split s;
+    lasgen::LasLayout utm31 = s.layout();
+    utm31.epsg = 32631;
+    const std::string metres = s.dir.file("metres.las"), degrees = s.dir.file("degrees.las");
+    test::write_file(metres, test::make_las_part(utm31, s.scene, 0, points));
+    // The same points in WGS 84 longitude and latitude, in steps of 1e-8 degree (1 mm and less).
+    test::write_file(degrees, transformed(s.layout(), s.scene, 0, points, 32631, 4326, 1e-8));
+    BuildOptions o = s.options("metres.ply");
+    o.simplify.error = 0;
+    const BuildResult one = build_mesh(metres, o);
+    o.outputs[0].path = s.dir.file("degrees.ply");
+    o.bounds = Bounds{s.scene.min, s.scene.max}; // the grid of the file in metres
+    const BuildResult projected = build_mesh(degrees, o);
+    REQUIRE(projected.mesh);
+    CHECK(projected.report.crs_recorded == "EPSG:32631");
+    CHECK(contains(projected.report.crs, "projected from WGS 84 (EPSG:4326)"));
+    CHECK(read_mesh(s.dir.file("degrees.ply")).crs == "EPSG:32631");
+    CHECK(projected.report.points_outside == 0);
+    const double cell = one.report.grid.cell_size;
+    CHECK(mean_distance(*projected.mesh, *one.mesh) <= 0.02 * cell);
+    CHECK(mean_distance(*one.mesh, *projected.mesh) <= 0.02 * cell);
+    // compare brings the cloud in degrees into the mesh's CRS: distances in metres, as close as
+    // the mesh of the file in metres is to its cloud.
+    LasReader cloud(degrees), cloud_in_metres(metres);
+    const CompareResult measured = compare(*projected.mesh, cloud, CompareOptions{});
+    const CompareResult reference = compare(*one.mesh, cloud_in_metres, CompareOptions{});
+    CHECK(contains(measured.cloud_transformed, "WGS 84 (EPSG:4326)"));
+    CHECK(reference.cloud_transformed.empty());
+    CHECK(measured.cloud_to_mesh.within_1_cell >= 0.99);
+    CHECK(std::abs(measured.cloud_to_mesh.mean - reference.cloud_to_mesh.mean) <= 0.02 * cell);
 }

@@ -60,6 +60,10 @@ struct BuildOptions {
     // Several inputs: leave out an input that cannot be read (listed in the report) instead of
     // stopping. One that fails part-way through its points costs a second read of the others.
     bool skip_bad_inputs = false;
+    // The CRS to mesh in: "EPSG:32631" or a WKT; inputs in other CRSs are transformed with PROJ.
+    // Default: the CRS most inputs declare, projected to the UTM zone of the data's centre when
+    // it is longitude and latitude (cells must be cubes in one unit).
+    std::string crs;
     std::optional<double>
         iso; // points per cell at the surface; default: a tenth of the occupied cells' median count, at least 1
     SurfaceKind surface = SurfaceKind::sheet;
@@ -95,6 +99,8 @@ struct RunReport {
     // projected, in foot (0.3048 m)"), what the outputs record of it ("EPSG:2992", or a WKT),
     // both empty when the input declares none: the mesh is then in the file's own units.
     std::string crs, crs_recorded;
+    std::string
+        unit; // the CRS's unit of length ("metre", "US survey foot"): of the grid, the bounds; empty without one
     double iso = 0;
     bool iso_auto = false;
     SurfaceKind surface = SurfaceKind::sheet;

@@ -40,9 +40,14 @@ struct CompareResult {
     std::uint64_t points_read = 0, points_used = 0, samples_used = 0;
     double cell_size = 0;
     std::vector<double> vertex_distance; // per mesh vertex: distance to the nearest used point
+    // "WGS 84 (EPSG:4326), ... to WGS 84 / UTM zone 15N (EPSG:32615), ..." when the cloud was
+    // brought into the CRS the mesh records; empty when it was measured as it is.
+    std::string cloud_transformed;
 };
 
-// Streams the cloud once, keeping the selected points (relative to the mesh origin) in memory:
+// Streams the cloud once, keeping the selected points (relative to the mesh origin) in memory;
+// a cloud whose CRS differs from the one the mesh records (Mesh::crs) is transformed into it with
+// PROJ first (a mesh of a file in degrees is in UTM): lengths are then in the mesh's unit.
 // memory is bounded by the mesh and `samples`, not by the file. With more points than
 // `samples`, mesh-to-cloud distances are measured to that subset, so they are upper bounds.
 CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& options);

@@ -14,6 +14,7 @@
 #include "lasmesh/mesh_files.hpp"
 #include "number_text.hpp"
 #include "read/crs.hpp"
+#include "read/crs_transform.hpp"
 #include "read/input_stream.hpp"
 
 #include <filesystem>
@@ -85,6 +86,16 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     return c;
 }
 
+namespace {
+
+// "metre (the mesh's CRS: WGS 84 / UTM zone 15N, EPSG:32615)".
+std::string units_of_mesh(const std::string& recorded) {
+    const CrsInfo crs = crs_from_text(recorded);
+    return crs.unit + " (the mesh's CRS: " + crs.name + (crs.code.empty() ? "" : ", " + crs.code) + ")";
+}
+
+} // namespace
+
 void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream& log) {
     if (!o.heatmap.empty()) {
         check_output_folder(o.heatmap);
@@ -105,7 +116,9 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
     const std::string cloud_crs = crs && crs->identified() ? crs_for_outputs(*crs) : "";
     const CompareResult r = compare(mesh, cloud, options);
     progress.clear();
-    if (!mesh.crs.empty() && mesh.crs != cloud_crs)
+    if (!r.cloud_transformed.empty())
+        log << "lasmesh: note: the cloud was brought from " << r.cloud_transformed << " (the mesh's CRS)\n";
+    else if (!mesh.crs.empty() && mesh.crs != cloud_crs)
         log << "lasmesh: warning: the mesh records the CRS "
             << (mesh.crs.size() > 60 ? mesh.crs.substr(0, 60) + "..." : mesh.crs) << " but the cloud "
             << (cloud_crs.empty() ? std::string("declares none") : "is in " + cloud_crs)
@@ -123,7 +136,8 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
     } else {
         out << "verdict        " << verdict(r) << "\n"
             << "units          "
-            << (crs && crs->identified() && !crs->unit.empty()
+            << (!r.cloud_transformed.empty() ? units_of_mesh(mesh.crs)
+                : crs && crs->identified() && !crs->unit.empty()
                     ? crs->unit + " (the cloud's CRS: " + crs->name + (crs->code.empty() ? "" : ", " + crs->code) + ")"
                     : std::string("the file's (it declares no CRS lasmesh can read; metres in most projected ones)"))
             << "; every length below too\n";

@@ -4,6 +4,7 @@
 #include "info_command.hpp"
 
 #include "io/json.hpp"
+#include "lasmesh/error.hpp"
 #include "lasmesh/las_reader.hpp"
 #include "read/crs.hpp"
 #include "read/input_stream.hpp"
@@ -126,7 +127,7 @@ struct SurveyFacts {
 SurveyFacts survey_facts(const std::vector<std::string>& inputs) {
     SurveyFacts facts;
     try {
-        facts.survey = read_survey(inputs, false, false);
+        facts.survey = read_survey(inputs, SurveyOptions{false, false, {}});
     } catch (const Error& e) {
         facts.problem = e.what();
         return facts;
@@ -153,7 +154,7 @@ Json survey_json(const SurveyFacts& facts) {
             {"offset", h.offset},
             {"same_frame", facts.same_frame},
             {"bounds", {{"min", h.min}, {"max", h.max}}},
-            {"crs", facts.survey->crs ? crs_summary(*facts.survey->crs) : ""},
+            {"crs", facts.survey->crs_line},
             {"notes", facts.survey->notes}};
 }
 
@@ -170,8 +171,7 @@ void write_survey_text(const SurveyFacts& facts, std::ostream& out) {
         << (facts.same_frame ? "  (every file's)" : "  (the files differ: records brought into this frame)")
         << "\nbounds min           " << join_scaled(h.min, h.scale) << "\nbounds max           "
         << join_scaled(h.max, h.scale) << "\ncrs                  "
-        << (facts.survey->crs ? crs_summary(*facts.survey->crs) : "none declared (coordinates in the files' own units)")
-        << '\n';
+        << (facts.survey->crs ? facts.survey->crs_line : "none declared (coordinates in the files' own units)") << '\n';
     for (const std::string& note : facts.survey->notes) out << note << '\n';
 }
 

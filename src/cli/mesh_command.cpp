@@ -48,6 +48,11 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
                    "Also read the inputs listed in this file, one path a line (relative to the list's folder; "
                    "blank lines and lines starting with # skipped); - reads the list from standard input")
         ->type_name("LIST");
+    app.add_option("--crs", o.crs,
+                   "Mesh in this coordinate system (EPSG:CODE or a WKT); inputs in others are transformed with "
+                   "PROJ (default: the CRS most inputs declare, longitude/latitude projected to the UTM zone of "
+                   "the data's centre)")
+        ->type_name("CRS");
     app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
                  "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     app.add_option("-o,--output", o.outputs,
@@ -146,6 +151,7 @@ BuildOptions build_options(const MeshOptions& o) {
     b.threads = o.threads;
     b.scan_bounds = o.grid.scan_bounds;
     b.skip_bad_inputs = o.skip_bad_inputs;
+    b.crs = o.crs;
     return b;
 }
 

@@ -16,6 +16,7 @@ struct MeshOptions {
     std::vector<std::string> inputs;
     std::string inputs_list;          // --inputs LIST: one path a line
     bool skip_bad_inputs = false;     // --skip-bad-inputs
+    std::string crs;                  // --crs
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
     std::string iso = "auto";

@@ -23,6 +23,15 @@ std::string extension_name(const std::string& path) {
     return ext.empty() ? ext : ext.substr(1);
 }
 
+// " m", " ft", " ftUS" after a length in the CRS's unit; nothing without a CRS.
+std::string unit_suffix(const std::string& unit) {
+    if (unit.empty()) return "";
+    if (unit == "metre") return " m";
+    if (unit == "foot") return " ft";
+    if (unit == "US survey foot") return " ftUS";
+    return " " + unit;
+}
+
 } // namespace
 
 void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& summary) {
@@ -34,7 +43,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "crs            " << (r.crs.empty() ? "none declared: the mesh is in the file's own units" : r.crs)
             << "\n"
             << "grid           " << s.dims[0] << " x " << s.dims[1] << " x " << s.dims[2] << " cells of "
-            << four_digits(s.cell_size) << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
+            << four_digits(s.cell_size) << unit_suffix(r.unit)
+            << (r.grid_reason.empty() ? "" : " (" + r.grid_reason + ")") << "\n"
             << "iso            " << four_digits(r.iso) << (r.iso_auto ? " (auto)" : "") << " points per cell, "
             << (r.surface == SurfaceKind::sheet       ? "one sheet through the points"
                 : r.placement == VertexPlacement::iso ? "closed, vertices on the iso level"
@@ -53,7 +63,7 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << "simplify       ";
     if (r.simplify.error > 0)
         summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, bound "
-                << four_digits(r.simplify.error) << " (" << c.simplify_text << "), in "
+                << four_digits(r.simplify.error) << unit_suffix(r.unit) << " (" << c.simplify_text << "), in "
                 << two_digits(r.simplify.seconds) << " s\n";
     else
         summary << "off\n";

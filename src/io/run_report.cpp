@@ -35,7 +35,7 @@ std::string run_report_json(const RunReport& r) {
     json["colored"] = r.colored;
     json["normals"] = r.normals;
     json["origin"] = r.origin;
-    json["crs"] = {{"summary", r.crs}, {"recorded", r.crs_recorded}};
+    json["crs"] = {{"summary", r.crs}, {"recorded", r.crs_recorded}, {"unit", r.unit}};
     json["outputs"] = Json::array();
     for (const OutputReport& output : r.outputs)
         json["outputs"].push_back({{"path", output.path}, {"bytes", output.bytes}, {"seconds", output.seconds}});

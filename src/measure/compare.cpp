@@ -5,6 +5,8 @@
 
 #include "lasmesh/error.hpp"
 #include "measure/mesh_distance.hpp"
+#include "read/crs.hpp"
+#include "read/crs_transform.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_point.hpp"
 
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace lasmesh {
 
@@ -25,7 +28,8 @@ bool selected(std::uint64_t i, std::uint64_t n, std::uint64_t wanted) {
     return (static_cast<unsigned __int128>(i + 1) * wanted) / n != (static_cast<unsigned __int128>(i) * wanted) / n;
 }
 
-std::vector<Point3f> load_points(LasReader& cloud, const Vec3& origin, std::uint64_t wanted, std::uint64_t& read) {
+std::vector<Point3f> load_points(LasReader& cloud, const Vec3& origin, std::uint64_t wanted, std::uint64_t& read,
+                                 const CrsTransform* transform) {
     const PointDecoder decoder(cloud.header());
     const std::uint64_t n = cloud.header().point_count;
     std::vector<Point3f> points;
@@ -33,13 +37,21 @@ std::vector<Point3f> load_points(LasReader& cloud, const Vec3& origin, std::uint
     // holds. Chunks are bounded in bytes, whatever the record length.
     std::vector<std::byte> chunk(std::max<std::size_t>(1, (std::size_t{16} << 20) / decoder.record_length) *
                                  decoder.record_length);
+    std::vector<double> x, y, z;
     while (std::size_t count = cloud.read_records(chunk)) {
+        x.clear(), y.clear(), z.clear();
         for (std::size_t r = 0; r < count; ++r, ++read) {
             if (!selected(read, n, wanted)) continue;
             const Vec3 w = decoder.position(chunk.data() + r * decoder.record_length);
-            points.push_back({static_cast<float>(w[0] - origin[0]), static_cast<float>(w[1] - origin[1]),
-                              static_cast<float>(w[2] - origin[2])});
+            x.push_back(w[0]), y.push_back(w[1]), z.push_back(w[2]);
         }
+        if (transform && transform->apply(x.data(), y.data(), z.data(), x.size()) != x.size())
+            throw_input_error(cloud.stream().name(), "a point near record " + std::to_string(read) +
+                                                         " lies outside the area of its coordinate system: it "
+                                                         "cannot be brought into the mesh's");
+        for (std::size_t i = 0; i < x.size(); ++i)
+            points.push_back({static_cast<float>(x[i] - origin[0]), static_cast<float>(y[i] - origin[1]),
+                              static_cast<float>(z[i] - origin[2])});
     }
     return points;
 }
@@ -131,9 +143,24 @@ CompareResult compare(const Mesh& mesh, LasReader& cloud, const CompareOptions& 
     const auto step = [&](const std::string& what) {
         if (options.on_step) options.on_step(what);
     };
+    // A cloud in another CRS than the mesh records (a mesh of a file in degrees is in UTM):
+    // brought into the mesh's, so that distances are lengths in one unit.
+    std::unique_ptr<CrsTransform> transform;
+    if (const std::optional<CrsInfo> cloud_crs = read_crs(cloud.header()); cloud_crs && !mesh.crs.empty()) {
+        std::optional<CrsInfo> mesh_crs;
+        try {
+            mesh_crs = crs_from_text(mesh.crs);
+        } catch (const Error&) {
+            // Not a CRS PROJ knows: measured as they are (the command line warns).
+        }
+        if (mesh_crs && cloud_crs->identified() && crs_for_outputs(*cloud_crs) != crs_for_outputs(*mesh_crs)) {
+            transform = std::make_unique<CrsTransform>(*cloud_crs, *mesh_crs, cloud.stream().name());
+            result.cloud_transformed = crs_summary(*cloud_crs) + " to " + crs_summary(*mesh_crs);
+        }
+    }
     step("reading the cloud");
-    const PointSearch points(
-        load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1), result.points_read));
+    const PointSearch points(load_points(cloud, mesh.origin, std::max<std::uint64_t>(options.samples, 1),
+                                         result.points_read, transform.get()));
     result.points_used = points.size();
     if (points.size() == 0)
         throw_input_error(cloud.stream().name(), "has no point records: nothing to measure against");

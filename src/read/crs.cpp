@@ -5,6 +5,7 @@
 
 #include "byte_order.hpp"
 #include "number_text.hpp"
+#include "read/proj_handles.hpp"
 
 #include <proj.h>
 #include <proj_experimental.h> // proj_create_compound_crs: a horizontal and a vertical CRS from GeoTIFF keys
@@ -13,6 +14,9 @@
 #include <memory>
 
 namespace lasmesh {
+
+using proj::Context;
+using proj::Object;
 
 namespace {
 
@@ -57,15 +61,6 @@ std::map<std::uint16_t, GeoKey> geo_keys(const LasHeader& header) {
     return keys;
 }
 
-struct ContextDeleter {
-    void operator()(PJ_CONTEXT* c) const { proj_context_destroy(c); }
-};
-struct ObjectDeleter {
-    void operator()(PJ* p) const { proj_destroy(p); }
-};
-using Context = std::unique_ptr<PJ_CONTEXT, ContextDeleter>;
-using Object = std::unique_ptr<PJ, ObjectDeleter>;
-
 Object from_epsg(PJ_CONTEXT* ctx, int code) {
     return Object(proj_create_from_database(ctx, "EPSG", std::to_string(code).c_str(), PJ_CATEGORY_CRS, 0, nullptr));
 }
@@ -96,7 +91,9 @@ std::pair<std::string, double> unit_of(PJ_CONTEXT* ctx, const PJ* crs) {
     return {unit ? unit : "", factor};
 }
 
-CrsInfo describe(PJ_CONTEXT* ctx, PJ* crs, const std::string& source) {
+} // namespace
+
+CrsInfo describe_crs(PJ_CONTEXT* ctx, PJ* crs, const std::string& source) {
     CrsInfo info;
     info.source = source;
     Object unbound;
@@ -134,6 +131,8 @@ CrsInfo describe(PJ_CONTEXT* ctx, PJ* crs, const std::string& source) {
     return info;
 }
 
+namespace {
+
 CrsInfo from_wkt(PJ_CONTEXT* ctx, const Vlr& vlr) {
     std::string text(reinterpret_cast<const char*>(vlr.data.data()), vlr.data.size());
     while (!text.empty() && text.back() == '\0') text.pop_back();
@@ -150,7 +149,7 @@ CrsInfo from_wkt(PJ_CONTEXT* ctx, const Vlr& vlr) {
             "its WKT (\"" + text.substr(0, 60) + (text.size() > 60 ? "...\"" : "\"") + ") is unreadable: " + problem;
         return info;
     }
-    return describe(ctx, crs.get(), "OGC WKT");
+    return describe_crs(ctx, crs.get(), "OGC WKT");
 }
 
 CrsInfo from_geo_keys(PJ_CONTEXT* ctx, const std::map<std::uint16_t, GeoKey>& keys) {
@@ -180,9 +179,9 @@ CrsInfo from_geo_keys(PJ_CONTEXT* ctx, const std::map<std::uint16_t, GeoKey>& ke
         if (const Object v = from_epsg(ctx, vertical)) {
             const std::string name = std::string(proj_get_name(horizontal.get())) + " + " + proj_get_name(v.get());
             const Object compound(proj_create_compound_crs(ctx, name.c_str(), horizontal.get(), v.get()));
-            if (compound) return describe(ctx, compound.get(), "GeoTIFF keys");
+            if (compound) return describe_crs(ctx, compound.get(), "GeoTIFF keys");
         }
-    return describe(ctx, horizontal.get(), "GeoTIFF keys");
+    return describe_crs(ctx, horizontal.get(), "GeoTIFF keys");
 }
 
 } // namespace
@@ -191,8 +190,7 @@ std::optional<CrsInfo> read_crs(const LasHeader& header) {
     const Vlr* wkt = find_vlr(header, wkt_record);
     const std::map<std::uint16_t, GeoKey> keys = geo_keys(header);
     if (!wkt && keys.empty()) return std::nullopt;
-    const Context ctx(proj_context_create());
-    proj_log_level(ctx.get(), PJ_LOG_NONE);
+    const Context ctx = proj::quiet_context();
     const bool wkt_bit = (header.global_encoding & 0x10) != 0;
     if (wkt && (wkt_bit || keys.empty())) return from_wkt(ctx.get(), *wkt);
     return from_geo_keys(ctx.get(), keys);

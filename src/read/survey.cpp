@@ -103,63 +103,165 @@ void choose_frame(Survey& survey) {
     }
 }
 
-Survey read_survey(const std::vector<std::string>& paths, bool skip_bad, bool check_bounds) {
+namespace {
+
+// x and y within longitude and latitude: a geographic CRS declared for coordinates that are not
+// degrees (writers copy a CRS they did not use) is wrong, and is not used.
+bool in_degrees(const Vec3& min, const Vec3& max) {
+    return min[0] >= -180 && max[0] <= 360 && min[1] >= -90 && max[1] <= 90;
+}
+
+// The files' own CRSs, each distinct one once, and which each file declares.
+struct DeclaredCrs {
+    std::vector<CrsInfo> distinct;
+    std::vector<std::string> first_file; // the first file declaring each
+    std::vector<int> of_file;            // index in `distinct` per file; -1: none
+    std::vector<std::string> without;    // files that declare none
+};
+
+// The CRS the mesh is in, and how each file gets there (see Survey::crs).
+void choose_crs(Survey& survey, const DeclaredCrs& declared, const SurveyOptions& options) {
+    std::optional<CrsInfo> target;
+    std::string origin;
+    if (!options.crs.empty()) {
+        target = crs_from_text(options.crs);
+        if (target->geographic())
+            throw Error(ErrorKind::usage,
+                        "--crs " + options.crs + " is " + crs_summary(*target) +
+                            ": cells must be cubes in one unit, so give a projected CRS (in metres or feet)",
+                        "crs");
+        origin = " (asked for)";
+    } else if (!declared.distinct.empty()) {
+        // The CRS most files declare, the same whatever their order (a tie: the first by name).
+        std::vector<std::size_t> count(declared.distinct.size());
+        for (const int c : declared.of_file)
+            if (c >= 0) ++count[static_cast<std::size_t>(c)];
+        std::size_t best = 0;
+        for (std::size_t c = 1; c < count.size(); ++c)
+            if (count[c] > count[best] ||
+                (count[c] == count[best] && crs_identity(declared.distinct[c]) < crs_identity(declared.distinct[best])))
+                best = c;
+        target = declared.distinct[best];
+        if (target->geographic()) { // the UTM zone of the centre of the files in it
+            std::optional<Bounds> all;
+            for (std::size_t f = 0; f < survey.files.size(); ++f) {
+                if (declared.of_file[f] != static_cast<int>(best) || survey.files[f].point_count == 0) continue;
+                if (!all) all = Bounds{survey.files[f].min, survey.files[f].max};
+                for (int a = 0; a < 2; ++a) {
+                    all->min[a] = std::min(all->min[a], survey.files[f].min[a]);
+                    all->max[a] = std::max(all->max[a], survey.files[f].max[a]);
+                }
+            }
+            const Bounds centre_of = all.value_or(Bounds{});
+            const CrsInfo geographic = *target;
+            target = utm_crs_for(geographic, (centre_of.min[0] + centre_of.max[0]) / 2,
+                                 (centre_of.min[1] + centre_of.max[1]) / 2);
+            origin = " (projected from " + crs_summary(geographic) + ": the UTM zone of the data's centre)";
+        }
+    }
+    if (!target) return;
+    survey.crs = target;
+    survey.crs_line = crs_summary(*target) + origin;
+    if (!declared.without.empty())
+        survey.notes.push_back("note: " + std::to_string(declared.without.size()) + " of the inputs (" +
+                               declared.without.front() + (declared.without.size() > 1 ? " and others" : "") +
+                               ") declare no coordinate system: taken to be in " + crs_identity(*target));
+    if (target->unit_metres > 0 && target->vertical_unit_metres > 0 &&
+        std::abs(target->vertical_unit_metres / target->unit_metres - 1) > 1e-6)
+        survey.notes.push_back("warning: " + crs_summary(*target) + " measures heights in " + target->vertical_unit +
+                               " and x and y in " + target->unit +
+                               ": the cells are cubes in the file's numbers, not on the ground (give a --crs "
+                               "whose units agree)");
+    // Each file in another CRS: transformed, its bounds, scale and offset given in the target's.
+    std::vector<std::shared_ptr<const CrsTransform>> transforms(declared.distinct.size());
+    std::vector<std::string> transformed;
+    for (std::size_t f = 0; f < survey.files.size(); ++f) {
+        const int c = declared.of_file[f];
+        if (c < 0 || crs_identity(declared.distinct[static_cast<std::size_t>(c)]) == crs_identity(*target)) continue;
+        const CrsInfo& from = declared.distinct[static_cast<std::size_t>(c)];
+        SurveyFile& file = survey.files[f];
+        if (!from.identified())
+            throw_input_error(file.path, "its coordinate system cannot be transformed to " + crs_summary(*target) +
+                                             ": PROJ cannot read it (" + from.problem + ")");
+        if (!transforms[static_cast<std::size_t>(c)])
+            transforms[static_cast<std::size_t>(c)] = std::make_shared<const CrsTransform>(from, *target, file.path);
+        file.transform = transforms[static_cast<std::size_t>(c)];
+        transformed.push_back(file.path);
+        if (file.point_count == 0) continue;
+        const Bounds box = file.transform->bounds(Bounds{file.min, file.max});
+        file.min = box.min, file.max = box.max;
+        for (int a = 0; a < 3; ++a) file.scale[a] = 0.001, file.offset[a] = std::floor(file.min[a]);
+    }
+    if (!transformed.empty() && survey.files.size() > 1)
+        survey.notes.push_back("note: " + std::to_string(transformed.size()) + " of the inputs (" +
+                               transformed.front() + (transformed.size() > 1 ? " and others" : "") +
+                               ") transformed into " + crs_identity(*target) + " with PROJ");
+}
+
+} // namespace
+
+Survey read_survey(const std::vector<std::string>& paths, const SurveyOptions& options, LasReader* open_first) {
     Survey survey;
+    DeclaredCrs declared;
     std::map<std::string, std::optional<CrsInfo>> crs_read; // by crs_key
-    std::string crs_from;                                   // the first file that declares the CRS
-    std::vector<std::string> without_crs;
-    std::optional<Error> conflict;
-    for (const std::string& path : paths) {
-        if (path == "-")
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+        const std::string& path = paths[i];
+        if (path == "-" && paths.size() > 1)
             throw Error(ErrorKind::usage,
                         "standard input (-) must be the only input: with several inputs each is read twice, "
                         "its header first, and a pipe can be read once",
                         "inputs");
         try {
-            LasReader reader(path);
+            std::unique_ptr<LasReader> opened;
+            LasReader& reader = i == 0 && open_first ? *open_first : *(opened = std::make_unique<LasReader>(path));
             const LasHeader& h = reader.header();
             const std::string& name = reader.stream().name();
-            if (check_bounds && h.point_count > 0) check_header_bounds_usable(h, name);
+            if (options.check_bounds && h.point_count > 0) check_header_bounds_usable(h, name);
             const std::string key = crs_key(h);
             auto known = crs_read.find(key);
             if (known == crs_read.end()) known = crs_read.emplace(key, read_crs(h)).first;
-            const std::optional<CrsInfo>& crs = known->second;
-            if (!crs) {
-                without_crs.push_back(name);
-            } else if (!survey.crs) {
-                survey.crs = crs, crs_from = name;
-            } else if (crs_identity(*crs) != crs_identity(*survey.crs)) {
-                conflict = Error(ErrorKind::input, name + " declares the coordinate system " + crs_summary(*crs) +
-                                                       ", but " + crs_from + " declares " + crs_summary(*survey.crs) +
-                                                       ": the inputs of one mesh must share one coordinate system; "
-                                                       "reproject one of them first (nothing was written)");
-                break;
+            std::optional<CrsInfo> crs = known->second;
+            if (crs && crs->geographic() && h.point_count > 0 && !in_degrees(h.min, h.max)) {
+                survey.notes.push_back("warning: " + name + " declares " + crs_summary(*crs) +
+                                       ", but its x and y are not longitudes and latitudes: the declaration is "
+                                       "wrong, and is not used");
+                crs.reset();
             }
             SurveyFile file;
             file.path = path;
             file.point_count = h.point_count;
             file.point_format = h.point_format;
             file.record_length = h.point_record_length;
-            file.scale = h.scale, file.offset = h.offset, file.min = h.min, file.max = h.max;
+            file.record_scale = file.scale = h.scale;
+            file.record_offset = file.offset = h.offset;
+            file.min = h.min, file.max = h.max;
             file.bytes = reader.stream().raw_size().value_or(0);
             survey.files.push_back(std::move(file));
+            int index = -1;
+            if (crs) {
+                for (std::size_t c = 0; c < declared.distinct.size() && index < 0; ++c)
+                    if (crs_identity(declared.distinct[c]) == crs_identity(*crs)) index = static_cast<int>(c);
+                if (index < 0) {
+                    index = static_cast<int>(declared.distinct.size());
+                    declared.distinct.push_back(*crs);
+                    declared.first_file.push_back(name);
+                }
+            } else {
+                declared.without.push_back(name);
+            }
+            declared.of_file.push_back(index);
         } catch (const Error& e) {
             if (e.kind() != ErrorKind::input) throw;
-            if (!skip_bad) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            if (!options.skip_bad) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
             survey.skipped.push_back({path, e.what()});
         }
     }
-    if (conflict) throw *conflict; // not a bad file, and never skipped: which CRS is wanted?
     if (survey.files.empty())
         throw Error(ErrorKind::input,
                     "none of the " + std::to_string(paths.size()) +
                         " inputs could be read: " + survey.skipped.front().reason,
                     "inputs");
-    if (survey.crs && !without_crs.empty())
-        survey.notes.push_back("note: " + std::to_string(without_crs.size()) + " of the inputs (" +
-                               without_crs.front() + (without_crs.size() > 1 ? " and others" : "") +
-                               ") declare no coordinate system: taken to be in " + crs_identity(*survey.crs) +
-                               " like " + crs_from);
+    choose_crs(survey, declared, options);
     choose_frame(survey);
     return survey;
 }
@@ -205,8 +307,11 @@ struct AxisMap {
 SurveyReader::SurveyReader(LasReader& single)
     : single_(&single), header_(&single.header()), name_(single.stream().name()) {}
 
-SurveyReader::SurveyReader(const Survey& survey) : survey_(&survey), header_(&survey.header) {
-    name_ = survey.files.size() == 1 ? survey.files.front().path : std::to_string(survey.files.size()) + " files";
+SurveyReader::SurveyReader(const Survey& survey, LasReader* open_first)
+    : survey_(&survey), header_(&survey.header), open_first_(open_first) {
+    name_ = survey.files.size() > 1 ? std::to_string(survey.files.size()) + " files"
+            : open_first            ? open_first->stream().name()
+                                    : survey.files.front().path;
 }
 
 SurveyReader::~SurveyReader() = default;
@@ -218,6 +323,7 @@ std::uint64_t SurveyReader::bytes_read() const {
 
 std::optional<std::uint64_t> SurveyReader::bytes_total() const {
     if (single_) return single_->stream().raw_size();
+    if (open_first_ && survey_->files.size() == 1) return open_first_->stream().raw_size(); // a pipe: unknown
     std::uint64_t total = 0;
     for (const SurveyFile& file : survey_->files) total += file.bytes;
     return total;
@@ -226,10 +332,15 @@ std::optional<std::uint64_t> SurveyReader::bytes_total() const {
 void SurveyReader::open_next() {
     while (survey_->files[next_].point_count == 0) bytes_done_ += survey_->files[next_++].bytes;
     const SurveyFile& file = survey_->files[next_++];
-    current_ = std::make_unique<LasReader>(file.path);
+    if (next_ == 1 && open_first_) {
+        current_ = open_first_;
+        return;
+    }
+    opened_ = std::make_unique<LasReader>(file.path);
+    current_ = opened_.get();
     const LasHeader& h = current_->header();
-    if (h.point_count != file.point_count || h.point_format != file.point_format || h.scale != file.scale ||
-        h.offset != file.offset || h.min != file.min || h.max != file.max)
+    if (h.point_count != file.point_count || h.point_format != file.point_format || h.scale != file.record_scale ||
+        h.offset != file.record_offset)
         throw_input_error(current_->stream().name(), "its header changed between the first look at it and its "
                                                      "points being read (is it being written?)");
 }
@@ -237,7 +348,46 @@ void SurveyReader::open_next() {
 void SurveyReader::finish_current() {
     if (std::string warning = trailing_warning(*current_); !warning.empty()) warnings_.push_back(std::move(warning));
     bytes_done_ += survey_->files[next_ - 1].bytes;
-    current_.reset();
+    current_ = nullptr;
+    opened_.reset();
+}
+
+// X, Y, Z of `count` records (`stride` bytes apart) from the file's raw integers to the survey's:
+// as they are, through the frame (AxisMap), or through the coordinates and PROJ.
+void SurveyReader::convert_positions(std::byte* records, std::size_t count, std::size_t stride,
+                                     const SurveyFile& file) {
+    const LasHeader& h = *header_;
+    if (!file.transform) {
+        const std::array<AxisMap, 3> map{AxisMap(file.record_scale[0], file.record_offset[0], h.scale[0], h.offset[0]),
+                                         AxisMap(file.record_scale[1], file.record_offset[1], h.scale[1], h.offset[1]),
+                                         AxisMap(file.record_scale[2], file.record_offset[2], h.scale[2], h.offset[2])};
+        if (map[0].identity && map[1].identity && map[2].identity) return;
+        for (std::size_t i = 0; i < count; ++i)
+            for (int a = 0; a < 3; ++a) {
+                std::byte* at = records + i * stride + 4 * a;
+                store_le<std::int32_t>(at, map[a](load_le<std::int32_t>(at)));
+            }
+        return;
+    }
+    x_.resize(count), y_.resize(count), z_.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::byte* at = records + i * stride;
+        x_[i] = load_le<std::int32_t>(at) * file.record_scale[0] + file.record_offset[0];
+        y_[i] = load_le<std::int32_t>(at + 4) * file.record_scale[1] + file.record_offset[1];
+        z_[i] = load_le<std::int32_t>(at + 8) * file.record_scale[2] + file.record_offset[2];
+    }
+    const std::size_t done = file.transform->apply(x_.data(), y_.data(), z_.data(), count);
+    if (done < count)
+        throw_input_error(file.path, "point record " + std::to_string(current_->records_read() - count + done) +
+                                         " cannot be transformed to " + survey_->crs_line +
+                                         ": it lies outside the area of its coordinate system");
+    const std::array<const std::vector<double>*, 3> value{&x_, &y_, &z_};
+    for (std::size_t i = 0; i < count; ++i)
+        for (int a = 0; a < 3; ++a) {
+            const double raw = std::round(((*value[a])[i] - h.offset[a]) / h.scale[a]);
+            store_le<std::int32_t>(records + i * stride + 4 * a,
+                                   static_cast<std::int32_t>(std::clamp(raw, int32_lowest, int32_highest)));
+        }
 }
 
 std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
@@ -257,23 +407,12 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
         while (total < capacity && records_left() > 0) {
             if (!current_) open_next();
             const SurveyFile& file = survey_->files[next_ - 1];
-            const std::array<AxisMap, 3> map{
-                AxisMap(file.scale[0], file.offset[0], header_->scale[0], header_->offset[0]),
-                AxisMap(file.scale[1], file.offset[1], header_->scale[1], header_->offset[1]),
-                AxisMap(file.scale[2], file.offset[2], header_->scale[2], header_->offset[2])};
-            const bool same_frame = map[0].identity && map[1].identity && map[2].identity;
             const std::size_t wanted =
                 static_cast<std::size_t>(std::min<std::uint64_t>(capacity - total, current_->records_left()));
             std::byte* out = dst.data() + total * length;
             std::size_t got = 0;
             if (file.point_format == header_->point_format && file.record_length == length) {
                 got = current_->read_records({out, wanted * length});
-                if (!same_frame)
-                    for (std::size_t i = 0; i < got; ++i)
-                        for (int a = 0; a < 3; ++a) {
-                            std::byte* at = out + i * length + 4 * a;
-                            store_le<std::int32_t>(at, map[a](load_le<std::int32_t>(at)));
-                        }
             } else { // into the survey's layout: X, Y, Z, then colour where the survey has it
                 scratch_.resize(wanted * file.record_length);
                 got = current_->read_records(scratch_);
@@ -282,11 +421,11 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
                 for (std::size_t i = 0; i < got; ++i) {
                     const std::byte* from = scratch_.data() + i * file.record_length;
                     std::byte* to = out + i * length;
-                    for (int a = 0; a < 3; ++a)
-                        store_le<std::int32_t>(to + 4 * a, map[a](load_le<std::int32_t>(from + 4 * a)));
+                    std::memcpy(to, from, 12);
                     if (survey_rgb >= 0 && file_rgb >= 0) std::memcpy(to + survey_rgb, from + file_rgb, 6);
                 }
             }
+            convert_positions(out, got, length, file);
             total += got;
             records_read_ += got;
             if (got == 0 || current_->records_left() == 0) finish_current();

@@ -7,6 +7,10 @@
 // layout and the bounds are chosen from the set of files, never from their order, so the sums,
 // and the mesh, do not depend on the order of the inputs.
 //
+// Files in another coordinate system than the survey's are transformed with PROJ on the way, and
+// a survey in longitude and latitude is meshed in the UTM zone of its centre: cells are cubes in
+// one unit only in a projected CRS.
+//
 // Memory: one file is open at a time, and each file costs a SurveyFile (a path and a few
 // numbers), so 10,000 small files cost about what one large one does.
 #pragma once
@@ -14,6 +18,7 @@
 #include "lasmesh/las_reader.hpp"
 #include "lasmesh/mesh.hpp"
 #include "read/crs.hpp"
+#include "read/crs_transform.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -31,7 +36,11 @@ struct SurveyFile {
     std::uint64_t point_count = 0;
     std::uint8_t point_format = 0;
     std::uint16_t record_length = 0;
+    Vec3 record_scale{}, record_offset{}; // what the file's raw integers mean, in its own CRS
+    // In the survey's CRS: the file's bounds, and the scale and offset it would have there (its
+    // own, unless it is transformed: then a thousandth of the unit, and whole units).
     Vec3 scale{}, offset{}, min{}, max{};
+    std::shared_ptr<const CrsTransform> transform; // from the file's CRS to the survey's; null: none
     std::uint64_t bytes = 0; // the file's size (compressed size for a compressed stream), for progress
 };
 
@@ -47,18 +56,27 @@ struct Survey {
     // every file (else format 2, or 0 when no file has colour, holding only X, Y, Z and colour),
     // the frame's scale and offset, the union of the files' bounds, the total count.
     LasHeader header;
-    // The CRS the files declare (they must agree); files that declare none are taken to be in
-    // it (said in `notes`). Empty when no file declares one.
+    // The CRS the mesh is in: the one most files declare (the same whatever their order), the one
+    // asked for, or the UTM zone of a survey in longitude and latitude. Files that declare none
+    // are taken to be in it (said in `notes`). Empty when neither the files nor the user name one.
     std::optional<CrsInfo> crs;
-    std::vector<std::string> notes; // "note: ..." lines for the run's warnings
+    std::string crs_line;           // for the summary: the CRS, and where it came from
+    std::vector<std::string> notes; // "note: ..." and "warning: ..." lines for the run's warnings
 };
 
-// Reads the header of every input ("-" is refused: a survey reads each file twice, header first)
-// and chooses the frame and layout. Throws Error (input) naming the file that cannot be read, or
-// the two files whose coordinate systems differ; with `skip_bad`, a file that cannot be read is
-// left out and listed in `skipped` instead (no input left is still an error). Headers whose
-// bounds are damaged are refused unless `check_bounds` is false (bounds given, or scanned).
-Survey read_survey(const std::vector<std::string>& paths, bool skip_bad, bool check_bounds);
+struct SurveyOptions {
+    bool skip_bad = false;    // leave out a file that cannot be read (listed in `skipped`)
+    bool check_bounds = true; // refuse headers whose bounds are damaged (false: bounds given, or scanned)
+    std::string crs;          // the CRS to mesh in ("EPSG:32631", a WKT); empty: the files'
+};
+
+// Reads the header of every input and chooses the CRS, the frame and the layout. With several
+// inputs "-" is refused (each file is opened twice, header first); `open_first`, when given, is
+// paths[0] already open (one input: standard input too), used instead of opening it. Throws
+// Error (input) naming the file that cannot be read or transformed; with options.skip_bad, a file
+// that cannot be read is left out and listed in `skipped` instead (none left is still an error).
+Survey read_survey(const std::vector<std::string>& paths, const SurveyOptions& options,
+                   LasReader* open_first = nullptr);
 
 // An Error's option with skip_bad_inputs added: a bad file of several can be left out.
 std::string with_skip_option(const std::string& option);
@@ -71,12 +89,13 @@ Survey survey_without(const Survey& survey, std::size_t index, const std::string
 // chosen from `files` (and the CRS fields left as they are).
 void choose_frame(Survey& survey);
 
-// The records of one input (a LasReader already open: standard input too), or of every file of
-// a survey one after the other, in the survey's layout and frame.
+// The records of one input as they are (a LasReader already open), or of every file of a survey
+// one after the other, in the survey's CRS, frame and layout.
 class SurveyReader {
   public:
     explicit SurveyReader(LasReader& single);
-    explicit SurveyReader(const Survey& survey);
+    // `open_first`: the survey's first file, already open (read_survey's).
+    explicit SurveyReader(const Survey& survey, LasReader* open_first = nullptr);
     ~SurveyReader();
 
     const LasHeader& header() const { return *header_; }
@@ -99,13 +118,17 @@ class SurveyReader {
   private:
     void open_next();
     void finish_current();
+    void convert_positions(std::byte* records, std::size_t count, std::size_t stride, const SurveyFile& file);
 
     LasReader* single_ = nullptr;
     const Survey* survey_ = nullptr;
     const LasHeader* header_ = nullptr;
     std::string name_;
-    std::unique_ptr<LasReader> current_;
-    std::size_t next_ = 0; // the survey's next file to open
+    LasReader* open_first_ = nullptr;
+    LasReader* current_ = nullptr;
+    std::unique_ptr<LasReader> opened_; // current_ when this reader opened it
+    std::vector<double> x_, y_, z_;     // a batch of positions for PROJ
+    std::size_t next_ = 0;              // the survey's next file to open
     std::uint64_t records_read_ = 0, bytes_done_ = 0;
     std::vector<std::byte> scratch_; // a file's records before they are brought into the layout
     std::vector<std::string> warnings_;

@@ -28,17 +28,6 @@ for las in "$corpus"/*.las; do
     [ "$points" -eq 0 ] || check "$name: names the option to try" has "$dir/err.txt" "--grid"
     continue
   fi
-  # A file in degrees (its CRS geographic, its x and y longitudes and latitudes) is refused.
-  degrees=$("$lasmesh" info --json "$las" | python3 -c '
-import json, sys
-j = json.load(sys.stdin); lo, hi = j["bounds"]["min"], j["bounds"]["max"]
-print(int(bool(j["crs"]) and j["crs"]["kind"] == "geographic" and lo[0] >= -180 and hi[0] <= 360 and lo[1] >= -90 and hi[1] <= 90))')
-  if [ "$degrees" = 1 ]; then
-    "$lasmesh" "$las" -o "$dir/$name.ply" -q 2> "$dir/err.txt"; rc=$?
-    check "$name: in degrees, refused (exit 2, got $rc)" test "$rc" -eq 2
-    check "$name: ... saying so" has "$dir/err.txt" "longitude and latitude in degrees"
-    continue
-  fi
   options=()
   "$lasmesh" "$las" -o "$dir/$name.ply" -q 2> "$dir/err.txt"; rc=$?
   if [ "$rc" -eq 2 ] && has "$dir/err.txt" "--scan-bounds"; then # damaged header bounds

@@ -66,7 +66,7 @@ check "version" contains "$dir/version.txt" "lasmesh "
 (ulimit -v 1000000; "$lasgen" --scene sphere --points 100 --extra-bytes 65501 -o "$dir/long.las")
 check "lasgen: 100 records of 65,535 bytes within 1 GB of address space" test "$(stat -c %s "$dir/long.las" 2> /dev/null)" -gt 6500000
 # Coordinate systems: named with their EPSG code and unit, in text and JSON; meshing records them
-# in the outputs and refuses degrees.
+# in the outputs; degrees are projected to the UTM zone of the data's centre.
 "$lasgen" --scene box --points 2000 --epsg 32631 --origin 431250,6700200,10 -o "$dir/utm.las"
 "$lasmesh" info "$dir/utm.las" > "$dir/utm.txt"
 check "info names the CRS" has "$dir/utm.txt" "crs                  WGS 84 / UTM zone 31N (EPSG:32631), projected, in metre"
@@ -83,9 +83,15 @@ check "feet are named with their length" contains <("$lasmesh" info "$dir/ft.las
 check "the PLY records the CRS" has "$dir/utm.ply" "comment crs EPSG:32631"
 check "the summary names it" has "$dir/utm-summary.txt" "crs            WGS 84 / UTM zone 31N (EPSG:32631)"
 "$lasgen" --scene box --points 2000 --epsg 4326 --origin 5,60,10 --size 0.01 -o "$dir/deg.las"
-"$lasmesh" "$dir/deg.las" -o "$dir/deg.ply" 2> "$dir/deg.txt"; rc=$?
-check "degrees are refused (exit 2)" test "$rc" -eq 2
-check "... saying why" has "$dir/deg.txt" "longitude and latitude in degrees (WGS 84 (EPSG:4326), geographic, in degree)"
-check "... and nothing is written" test ! -e "$dir/deg.ply"
+"$lasmesh" "$dir/deg.las" -o "$dir/deg.ply" --ascii 2> "$dir/deg.txt"; rc=$?
+check "degrees: meshed (exit 0, got $rc)" test "$rc" -eq 0
+# 5 E, 60 N lies in zone 31 by its 6 degrees, but in 32V by the UTM grid's exception for Norway.
+check "... in the UTM zone of the centre, saying so" has "$dir/deg.txt" "crs            WGS 84 / UTM zone 32N (EPSG:32632), projected, in metre (projected from WGS 84 (EPSG:4326)"
+check "... which the PLY records" has "$dir/deg.ply" "comment crs EPSG:32632"
+"$lasmesh" "$dir/deg.las" -o "$dir/deg31.ply" --crs EPSG:32631 2> /dev/null
+check "--crs: the CRS asked for" has "$dir/deg31.ply" "comment crs EPSG:32631"
+"$lasmesh" "$dir/deg.las" -o "$dir/bad.ply" --crs EPSG:999999 2> "$dir/bad.txt"; rc=$?
+check "--crs unknown: exit 1, named" test "$rc" -eq 1 -a ! -e "$dir/bad.ply"
+check "... with the flag" has "$dir/bad.txt" "(--crs)"
 
 finish "cli info"
