@@ -63,7 +63,9 @@ struct Split {
     BuildOptions options(const std::string& output) const {
         BuildOptions o;
         o.grid = GridRequest::longest(96);
-        o.outputs.push_back({dir.file(output)});
+        OutputRequest request;
+        request.path = dir.file(output);
+        o.outputs.push_back(request);
         o.keep_mesh = true;
         return o;
     }

@@ -43,7 +43,7 @@ CrsInfo crs_from_text(const std::string& text) {
         throw Error(ErrorKind::usage,
                     "\"" + text.substr(0, 80) + "\" is not a coordinate system PROJ knows: give EPSG:CODE or a WKT",
                     "crs");
-    return describe_crs(ctx.get(), crs.get(), "--crs");
+    return describe_crs(ctx.get(), crs.get(), "the CRS asked for");
 }
 
 CrsInfo utm_crs_for(const CrsInfo& geographic, double longitude, double latitude) {

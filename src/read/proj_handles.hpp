@@ -33,7 +33,7 @@ inline Context quiet_context() {
 namespace lasmesh {
 
 // PROJ's CRS object described: name, EPSG code, kind, units, WKT (`source` says where it came
-// from: "OGC WKT", "GeoTIFF keys", "--crs").
+// from: "OGC WKT", "GeoTIFF keys", "the CRS asked for").
 CrsInfo describe_crs(PJ_CONTEXT* context, PJ* crs, const std::string& source);
 
 } // namespace lasmesh

@@ -127,7 +127,7 @@ void choose_crs(Survey& survey, const DeclaredCrs& declared, const SurveyOptions
         target = crs_from_text(options.crs);
         if (target->geographic())
             throw Error(ErrorKind::usage,
-                        "--crs " + options.crs + " is " + crs_summary(*target) +
+                        "the CRS asked for, " + options.crs + ", is " + crs_summary(*target) +
                             ": cells must be cubes in one unit, so give a projected CRS (in metres or feet)",
                         "crs");
         origin = " (asked for)";
@@ -170,7 +170,7 @@ void choose_crs(Survey& survey, const DeclaredCrs& declared, const SurveyOptions
         std::abs(target->vertical_unit_metres / target->unit_metres - 1) > 1e-6)
         survey.notes.push_back("warning: " + crs_summary(*target) + " measures heights in " + target->vertical_unit +
                                " and x and y in " + target->unit +
-                               ": the cells are cubes in the file's numbers, not on the ground (give a --crs "
+                               ": the cells are cubes in the file's numbers, not on the ground (ask for a CRS "
                                "whose units agree)");
     // Each file in another CRS: transformed, its bounds, scale and offset given in the target's.
     std::vector<std::shared_ptr<const CrsTransform>> transforms(declared.distinct.size());
