@@ -331,8 +331,9 @@ TEST_CASE("survey: files in other coordinate systems are transformed into the on
     for (int k = 0; k < 3; ++k) {
         parts.push_back(s.dir.file("utm" + std::to_string(k) + ".las"));
         const std::uint64_t first = points * k / 3, end = points * (k + 1) / 3;
-        // The same points, the last third as its writer in the next zone east would store them.
-        test::write_file(parts.back(), k < 2 ? test::make_las_part(utm31, s.scene, first, end - first)
+        // The same points, the first third as its writer in the next zone east would store them
+        // (first: the CRS most files declare is chosen, not the first file's).
+        test::write_file(parts.back(), k > 0 ? test::make_las_part(utm31, s.scene, first, end - first)
                                              : transformed(s.layout(), s.scene, first, end - first, 32631, 32632));
     }
     BuildOptions o = s.options("whole.ply");
@@ -348,6 +349,10 @@ TEST_CASE("survey: files in other coordinate systems are transformed into the on
     const double cell = one.report.grid.cell_size;
     CHECK(mean_distance(*all.mesh, *one.mesh) <= 0.02 * cell);
     CHECK(mean_distance(*one.mesh, *all.mesh) <= 0.02 * cell);
+    std::reverse(parts.begin(), parts.end());
+    o.outputs[0].path = s.dir.file("reversed.ply");
+    build_mesh(parts, o);
+    CHECK(test::read_file(s.dir.file("reversed.ply")) == test::read_file(s.dir.file("parts.ply")));
     // Asked for the other zone: every file transformed, the mesh recorded in it.
     o.crs = "EPSG:32632";
     o.bounds.reset();

@@ -80,7 +80,8 @@ check "truncated mesh: says where" contains "$dir/err.txt" "cut.ply: byte"
 "$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/no/dir/h.ply" 2> /dev/null; rc=$?
 check "heat map into a missing folder exits 4" test "$rc" -eq 4
 
-# With a CRS: lengths in its unit, named; a mesh made in another CRS is warned about.
+# With a CRS: lengths in its unit, named; a cloud in another CRS is brought into the mesh's, one
+# without a CRS is warned about.
 "$lasgen" --scene box --points 20000 --epsg 32631 --origin 431250,6700200,10 -o "$dir/utm.las"
 "$lasmesh" "$dir/utm.las" -o "$dir/utm.ply" --grid 32 -q
 "$lasmesh" compare "$dir/utm.ply" "$dir/utm.las" --samples 5000 --mesh-samples 5000 > "$dir/utm.txt" 2> "$dir/utm.err"
@@ -88,6 +89,9 @@ check "units named from the CRS" has "$dir/utm.txt" "units          metre (the c
 check "no warning when mesh and cloud agree" test ! -s "$dir/utm.err"
 "$lasgen" --scene box --points 20000 --epsg 32632 --origin 431250,6700200,10 -o "$dir/utm32.las"
 "$lasmesh" compare "$dir/utm.ply" "$dir/utm32.las" --samples 5000 --mesh-samples 5000 > /dev/null 2> "$dir/other.err"
-check "a mesh in another CRS is warned about" has "$dir/other.err" "the mesh records the CRS EPSG:32631 but the cloud is in EPSG:32632"
+check "a cloud in another CRS is brought into the mesh's" has "$dir/other.err" "note: the cloud was brought from WGS 84 / UTM zone 32N (EPSG:32632), projected, in metre to WGS 84 / UTM zone 31N (EPSG:32631)"
+"$lasgen" --scene box --points 20000 --origin 431250,6700200,10 -o "$dir/none.las"
+"$lasmesh" compare "$dir/utm.ply" "$dir/none.las" --samples 5000 --mesh-samples 5000 > /dev/null 2> "$dir/none.err"
+check "a cloud without a CRS is warned about" has "$dir/none.err" "the mesh records the CRS EPSG:32631 but the cloud declares none"
 
 finish "cli compare"
