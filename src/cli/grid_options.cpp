@@ -18,7 +18,10 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
             "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
         ->type_name("N|NXxNYxNZ|auto")
         ->capture_default_str();
-    command.add_option("--voxel", o.voxel, "Cell edge in the file's units (overrides --grid)")
+    command
+        .add_option("--voxel", o.voxel,
+                    "Cell edge in the unit of the coordinate system (metres, feet), or the file's without one "
+                    "(overrides --grid)")
         ->type_name("LENGTH")
         ->check(positive_number());
     CLI::Option* bounds =

@@ -76,11 +76,11 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
         ->capture_default_str();
     app.add_option("--min-piece", o.min_piece,
                    "Remove isolated pieces smaller than this bounding-box diagonal: a percentage of the "
-                   "whole mesh's diagonal (5%), a length in the file's units, or 0 to keep all")
+                   "whole mesh's diagonal (5%), a length (in the unit of --voxel), or 0 to keep all")
         ->type_name("P%|LENGTH")
         ->capture_default_str();
     app.add_option("--simplify", o.simplify,
-                   "Simplify until the surface would move more than this: a length in the file's units, a "
+                   "Simplify until the surface would move more than this: a length (in the unit of --voxel), a "
                    "fraction of a cell (0.5cell), or 0 for none")
         ->type_name("LENGTH|Fcell")
         ->capture_default_str();

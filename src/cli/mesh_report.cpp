@@ -59,7 +59,11 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << " (output positions are relative to it; exact in each file and in --report)\n"
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
-            << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)" : " (in the file's units)") << "\n"
+            << unit_suffix(r.unit)
+            << (c.relative_min_piece ? " (" + c.min_piece_text + " of the mesh's)"
+                : r.unit.empty()     ? " (in the file's units)"
+                                     : "")
+            << "\n"
             << "simplify       ";
     if (r.simplify.error > 0)
         summary << r.simplify.triangles_before << " to " << r.simplify.triangles_after << " triangles, bound "
