@@ -9,12 +9,10 @@
 #include "read/las_scan.hpp"
 #include "test_support.hpp"
 
-#include <boost/iostreams/copy.hpp>
 #include <boost/iostreams/filter/bzip2.hpp>
 #include <boost/iostreams/filter/gzip.hpp>
 #include <boost/iostreams/filter/lzma.hpp>
 #include <boost/iostreams/filter/zstd.hpp>
-#include <boost/iostreams/filtering_stream.hpp>
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -41,21 +39,6 @@ Bytes read_all_records(const std::string& path, std::size_t chunk) {
         all.insert(all.end(), buffer.begin(), buffer.begin() + n * reader.header().point_record_length);
     CHECK(reader.records_left() == 0);
     return all;
-}
-
-template <typename Compressor>
-Bytes compress(const Bytes& plain, Compressor compressor) {
-    std::string input(reinterpret_cast<const char*>(plain.data()), plain.size());
-    std::istringstream source(input);
-    std::ostringstream sink;
-    boost::iostreams::filtering_ostream out;
-    out.push(compressor);
-    out.push(sink);
-    boost::iostreams::copy(source, out);
-    std::string text = sink.str();
-    Bytes bytes(text.size());
-    std::memcpy(bytes.data(), text.data(), text.size());
-    return bytes;
 }
 
 // Runs the reader over a whole file and returns the message of the Error it must throw.
@@ -152,10 +135,10 @@ TEST_CASE("gzip, bzip2, xz and zstd input give the same records as the plain fil
     const Bytes expected = read_all_records(dir.file("plain.las"), 4096);
 
     const std::pair<const char*, Bytes> variants[] = {
-        {"gzip", compress(plain, io::gzip_compressor())},
-        {"bzip2", compress(plain, io::bzip2_compressor())},
-        {"xz", compress(plain, io::lzma_compressor())},
-        {"zstd", compress(plain, io::zstd_compressor())},
+        {"gzip", test::compress(plain, io::gzip_compressor())},
+        {"bzip2", test::compress(plain, io::bzip2_compressor())},
+        {"xz", test::compress(plain, io::lzma_compressor())},
+        {"zstd", test::compress(plain, io::zstd_compressor())},
     };
     for (const auto& [name, bytes] : variants) {
         CAPTURE(name);
@@ -195,7 +178,7 @@ TEST_CASE("every truncation of a gzip stream gives a clean error or the exact re
     const Bytes plain = test::make_las(layout, small_sphere(), 50);
     test::write_file(dir.file("plain.las"), plain);
     const Bytes expected = read_all_records(dir.file("plain.las"), 50);
-    const Bytes gz = compress(plain, io::gzip_compressor());
+    const Bytes gz = test::compress(plain, io::gzip_compressor());
     const std::string path = dir.file("cut.las.gz");
     int errors = 0;
     for (std::size_t size = 1; size < gz.size(); ++size) {
@@ -307,7 +290,7 @@ TEST_CASE("foreign, empty and malformed LAZ input are refused with a message tha
         CHECK(input_error_of(dir.file("missing.las")).find("No such file") != std::string::npos);
     }
     SUBCASE("a corrupt zstd stream") {
-        Bytes z = compress(good, boost::iostreams::zstd_compressor());
+        Bytes z = test::compress(good, boost::iostreams::zstd_compressor());
         for (std::size_t i = 8; i < z.size(); ++i) z[i] ^= std::byte{0x5A};
         test::write_file(dir.file("bad.zst"), z);
         CHECK(input_error_of(dir.file("bad.zst")).find("corrupt or truncated zstd stream") != std::string::npos);

@@ -12,7 +12,9 @@
 #include "read/crs_transform.hpp"
 #include "read/survey.hpp"
 
+#include <boost/iostreams/filter/gzip.hpp>
 #include <doctest/doctest.h>
+#include <tbb/task_arena.h>
 
 #include "test_support.hpp"
 
@@ -20,6 +22,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 using namespace lasmesh;
 
@@ -109,6 +112,57 @@ TEST_CASE("survey: files in one frame mesh to the single file's bytes, in any or
     std::rotate(parts.begin(), parts.begin() + 2, parts.end());
     build_mesh(parts, s.options("shuffled.ply"));
     CHECK(test::read_file(s.dir.file("shuffled.ply")) == test::read_file(s.dir.file("whole.ply")));
+}
+
+TEST_CASE("survey: small compressed files are decoded several at once and handed out in order") {
+    Split s;
+    const std::vector<std::string> plain = s.split("part", 13, {s.layout()});
+    std::vector<std::string> packed; // gzip streams, and a file without points among them
+    for (std::size_t k = 0; k < plain.size(); ++k) {
+        packed.push_back(plain[k] + ".gz");
+        test::write_file(packed.back(), test::compress(test::read_file(plain[k]), boost::iostreams::gzip_compressor()));
+        if (k == 4) {
+            packed.push_back(s.dir.file("empty.las.gz"));
+            test::write_file(packed.back(), test::compress(test::make_las_part(s.layout(), s.scene, 0, 0),
+                                                           boost::iostreams::gzip_compressor()));
+        }
+    }
+    // Every record in the plain files' order, read in slices that end inside files.
+    const auto all_records = [](const std::vector<std::string>& paths, std::size_t slice,
+                                std::optional<std::size_t>* failed = nullptr) {
+        const lasmesh::Survey survey = read_survey(paths, SurveyOptions{});
+        SurveyReader reader(survey);
+        test::Bytes all, buffer(slice * survey.header.point_record_length);
+        try {
+            while (std::size_t n = reader.read_records(buffer))
+                all.insert(all.end(), buffer.begin(), buffer.begin() + n * survey.header.point_record_length);
+        } catch (const Error&) {
+            if (!failed) throw;
+            *failed = reader.failed_file();
+        }
+        return all;
+    };
+    tbb::task_arena two(2); // batches of two files, whatever this machine's cores
+    two.execute([&] {
+        const test::Bytes expected = all_records(plain, 100000);
+        CHECK(expected.size() == points * 34);
+        CHECK(all_records(packed, 777) == expected);
+        CHECK(all_records(packed, 100000) == expected);
+
+        // The 8th stream (7th part) cut short: named when its turn comes, after the records of
+        // the files before it and none of its own (read a record at a time: a read that throws
+        // hands out nothing).
+        test::Bytes cut = test::read_file(packed[7]);
+        cut.resize(cut.size() / 2);
+        test::write_file(packed[7], cut);
+        std::optional<std::size_t> failed;
+        const test::Bytes before = all_records(packed, 1, &failed);
+        CHECK(failed == std::optional<std::size_t>(7));
+        CHECK(before.size() == points * 6 / 13 * 34);
+        CHECK(std::equal(before.begin(), before.end(), expected.begin()));
+        const Error e = error_of(packed, s.options("cut.ply"));
+        CHECK(contains(e.what(), "part6.las.gz"));
+    });
 }
 
 TEST_CASE("survey: files with their own offsets, scales and formats: one frame, the same sums, any order") {

@@ -5,10 +5,15 @@
 #include "lasgen/las_writer.hpp"
 #include "lasgen/scene.hpp"
 
+#include <boost/iostreams/copy.hpp>
+#include <boost/iostreams/filtering_stream.hpp>
+
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +36,21 @@ class TempDir {
 };
 
 Bytes read_file(const std::string& path);
+
+// `plain` through a Boost.Iostreams compressor (gzip_compressor(), zstd_compressor(), ...).
+template <typename Compressor>
+Bytes compress(const Bytes& plain, Compressor compressor) {
+    std::istringstream source(std::string(reinterpret_cast<const char*>(plain.data()), plain.size()));
+    std::ostringstream sink;
+    boost::iostreams::filtering_ostream out;
+    out.push(compressor);
+    out.push(sink);
+    boost::iostreams::copy(source, out);
+    const std::string text = sink.str();
+    Bytes bytes(text.size());
+    std::memcpy(bytes.data(), text.data(), text.size());
+    return bytes;
+}
 void write_file(const std::string& path, const Bytes& bytes);
 
 // A whole LAS file of `count` points of `scene`, as lasgen would write it.

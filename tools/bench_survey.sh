@@ -8,7 +8,8 @@
 #      distance of its mesh's vertices to the single file's mesh, both unsimplified, in cells
 #      (`lasmesh compare` with the vertices as the cloud), and its time; for scale, the same
 #      distance for the single file written at half the scale;
-#   3. 10,000 files of POINTS / 10,000 points each: peak resident memory against the single file.
+#   3. 10,000 files of POINTS / 10,000 points each: peak resident memory against the single file;
+#   4. 128 small LAZ files of one chunk each, decoded one at a time and several at once.
 # Usage: tools/bench_survey.sh [POINTS]   (default 5,000,000)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -98,3 +99,11 @@ rm -f "$work"/same-*.las "$work"/vary-*
 ls "$work"/small-*.las > "$work/small.txt"
 best_run "10,000 files (--inputs)" --inputs "$work/small.txt" -o "$work/small.ply"
 if cmp -s "$work/deck.ply" "$work/small.ply"; then echo "10,000 files: identical bytes"; else echo "10,000 files: BYTES DIFFER"; fi
+
+# Small LAZ files, one chunk each (128 copies of tests/data/laz/laspy_plane.laz, 28,185 points):
+# one file at a time (--threads 1) against several decoded at once (every core).
+rm -f "$work"/small-*.las
+for k in $(seq -w 1 128); do cp tests/data/laz/laspy_plane.laz "$work/plane-$k.laz"; done
+best_run "128 LAZ files, one at a time" "$work"/plane-*.laz --grid 256 --threads 1 -o "$work/plane1.ply"
+best_run "128 LAZ files, several at once" "$work"/plane-*.laz --grid 256 -o "$work/plane.ply"
+if cmp -s "$work/plane1.ply" "$work/plane.ply"; then echo "LAZ files: identical bytes"; else echo "LAZ files: BYTES DIFFER"; fi

@@ -5,12 +5,14 @@
 
 #include "byte_order.hpp"
 #include "lasmesh/error.hpp"
+#include "read/decode_ahead.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_header.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <map>
 
@@ -236,6 +238,7 @@ Survey read_survey(const std::vector<std::string>& paths, const SurveyOptions& o
             file.record_offset = file.offset = h.offset;
             file.min = h.min, file.max = h.max;
             file.bytes = reader.stream().raw_size().value_or(0);
+            file.compressed = h.compressed || reader.stream().compression() != Compression::none;
             survey.files.push_back(std::move(file));
             int index = -1;
             if (crs) {
@@ -331,25 +334,50 @@ std::optional<std::uint64_t> SurveyReader::bytes_total() const {
 
 void SurveyReader::open_next() {
     while (survey_->files[next_].point_count == 0) bytes_done_ += survey_->files[next_++].bytes;
-    const SurveyFile& file = survey_->files[next_++];
-    if (next_ == 1 && open_first_) {
+    const std::size_t index = next_++;
+    if (index == 0 && open_first_) {
         current_ = open_first_;
         return;
     }
-    opened_ = std::make_unique<LasReader>(file.path);
+    if (index >= batch_first_ + batch_.size()) {
+        batch_.clear();
+        if (const std::size_t count = batch_length(survey_->files, index); count >= 2) {
+            batch_ = decode_batch(survey_->files, index, count);
+            batch_first_ = index;
+        }
+    }
+    if (index < batch_first_ + batch_.size()) {
+        decoded_ = &batch_[index - batch_first_];
+        decoded_read_ = 0;
+        if (decoded_->error) std::rethrow_exception(decoded_->error);
+        return;
+    }
+    opened_ = reopen(survey_->files[index]);
     current_ = opened_.get();
-    const LasHeader& h = current_->header();
-    if (h.point_count != file.point_count || h.point_format != file.point_format || h.scale != file.record_scale ||
-        h.offset != file.record_offset)
-        throw_input_error(current_->stream().name(), "its header changed between the first look at it and its "
-                                                     "points being read (is it being written?)");
 }
 
 void SurveyReader::finish_current() {
-    if (std::string warning = trailing_warning(*current_); !warning.empty()) warnings_.push_back(std::move(warning));
+    std::string warning = decoded_ ? std::move(decoded_->warning) : trailing_warning(*current_);
+    if (!warning.empty()) warnings_.push_back(std::move(warning));
     bytes_done_ += survey_->files[next_ - 1].bytes;
+    if (decoded_) std::vector<std::byte>().swap(decoded_->records);
+    decoded_ = nullptr;
     current_ = nullptr;
     opened_.reset();
+}
+
+std::uint64_t SurveyReader::current_left() const {
+    return decoded_ ? decoded_->records.size() / survey_->files[next_ - 1].record_length - decoded_read_
+                    : current_->records_left();
+}
+
+std::size_t SurveyReader::read_current(std::span<std::byte> dst) {
+    if (!decoded_) return current_->read_records(dst);
+    const std::size_t length = survey_->files[next_ - 1].record_length;
+    const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(dst.size() / length, current_left()));
+    std::memcpy(dst.data(), decoded_->records.data() + decoded_read_ * length, count * length);
+    decoded_read_ += count;
+    return count;
 }
 
 // X, Y, Z of `count` records (`stride` bytes apart) from the file's raw integers to the survey's:
@@ -378,9 +406,11 @@ void SurveyReader::convert_positions(std::byte* records, std::size_t count, std:
     }
     const std::size_t done = file.transform->apply(x_.data(), y_.data(), z_.data(), count);
     if (done < count)
-        throw_input_error(file.path, "point record " + std::to_string(current_->records_read() - count + done) +
-                                         " cannot be transformed to " + survey_->crs_line +
-                                         ": it lies outside the area of its coordinate system");
+        throw_input_error(file.path,
+                          "point record " +
+                              std::to_string((decoded_ ? decoded_read_ : current_->records_read()) - count + done) +
+                              " cannot be transformed to " + survey_->crs_line +
+                              ": it lies outside the area of its coordinate system");
     const std::array<const std::vector<double>*, 3> value{&x_, &y_, &z_};
     for (std::size_t i = 0; i < count; ++i)
         for (int a = 0; a < 3; ++a) {
@@ -405,17 +435,17 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
     std::size_t total = 0;
     try {
         while (total < capacity && records_left() > 0) {
-            if (!current_) open_next();
+            if (!current_ && !decoded_) open_next();
             const SurveyFile& file = survey_->files[next_ - 1];
             const std::size_t wanted =
-                static_cast<std::size_t>(std::min<std::uint64_t>(capacity - total, current_->records_left()));
+                static_cast<std::size_t>(std::min<std::uint64_t>(capacity - total, current_left()));
             std::byte* out = dst.data() + total * length;
             std::size_t got = 0;
             if (file.point_format == header_->point_format && file.record_length == length) {
-                got = current_->read_records({out, wanted * length});
+                got = read_current({out, wanted * length});
             } else { // into the survey's layout: X, Y, Z, then colour where the survey has it
                 scratch_.resize(wanted * file.record_length);
-                got = current_->read_records(scratch_);
+                got = read_current(scratch_);
                 const int file_rgb = rgb_offset(file.point_format);
                 std::memset(out, 0, got * length);
                 for (std::size_t i = 0; i < got; ++i) {
@@ -428,7 +458,7 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
             convert_positions(out, got, length, file);
             total += got;
             records_read_ += got;
-            if (got == 0 || current_->records_left() == 0) finish_current();
+            if (got == 0 || current_left() == 0) finish_current();
         }
     } catch (const Error&) {
         failed_ = next_ - 1;

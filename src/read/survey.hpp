@@ -11,7 +11,8 @@
 // a survey in longitude and latitude is meshed in the UTM zone of its centre: cells are cubes in
 // one unit only in a projected CRS.
 //
-// Memory: one file is open at a time, and each file costs a SurveyFile (a path and a few
+// Memory: one file is open at a time, or one batch of small compressed files decoded together
+// (read/decode_ahead.hpp, at most 32 MiB), and each file costs a SurveyFile (a path and a few
 // numbers), so 10,000 small files cost about what one large one does.
 #pragma once
 
@@ -42,6 +43,7 @@ struct SurveyFile {
     Vec3 scale{}, offset{}, min{}, max{};
     std::shared_ptr<const CrsTransform> transform; // from the file's CRS to the survey's; null: none
     std::uint64_t bytes = 0; // the file's size (compressed size for a compressed stream), for progress
+    bool compressed = false; // LAZ, or a gzip/bzip2/xz/zstd stream: reading it is CPU work
 };
 
 // An input left out (with skip_bad), and why: the error it gave.
@@ -89,6 +91,8 @@ Survey survey_without(const Survey& survey, std::size_t index, const std::string
 // chosen from `files` (and the CRS fields left as they are).
 void choose_frame(Survey& survey);
 
+struct DecodedFile; // read/decode_ahead.hpp
+
 // The records of one input as they are (a LasReader already open), or of every file of a survey
 // one after the other, in the survey's CRS, frame and layout.
 class SurveyReader {
@@ -118,6 +122,8 @@ class SurveyReader {
   private:
     void open_next();
     void finish_current();
+    std::uint64_t current_left() const;
+    std::size_t read_current(std::span<std::byte> dst);
     void convert_positions(std::byte* records, std::size_t count, std::size_t stride, const SurveyFile& file);
 
     LasReader* single_ = nullptr;
@@ -127,8 +133,14 @@ class SurveyReader {
     LasReader* open_first_ = nullptr;
     LasReader* current_ = nullptr;
     std::unique_ptr<LasReader> opened_; // current_ when this reader opened it
-    std::vector<double> x_, y_, z_;     // a batch of positions for PROJ
-    std::size_t next_ = 0;              // the survey's next file to open
+    // Or the current file decoded ahead, one of a batch of files [batch_first_, batch_first_ +
+    // batch_.size()), and how many of its records are handed out.
+    std::vector<DecodedFile> batch_;
+    std::size_t batch_first_ = 0;
+    DecodedFile* decoded_ = nullptr;
+    std::uint64_t decoded_read_ = 0;
+    std::vector<double> x_, y_, z_; // a batch of positions for PROJ
+    std::size_t next_ = 0;          // the survey's next file to open
     std::uint64_t records_read_ = 0, bytes_done_ = 0;
     std::vector<std::byte> scratch_; // a file's records before they are brought into the layout
     std::vector<std::string> warnings_;
