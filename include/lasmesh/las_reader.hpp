@@ -31,7 +31,7 @@ class LazDecoder;
 struct Vlr {
     std::string user_id; // up to 16 characters, trailing NULs removed
     std::uint16_t record_id = 0;
-    std::uint16_t length = 0;    // payload bytes after the 54-byte VLR header
+    std::uint16_t length = 0;    // payload bytes after the 54-byte VLR header (an EVLR's: at most 65535)
     std::string description;     // up to 32 characters, trailing NULs removed
     std::vector<std::byte> data; // the payload, kept for the LASzip and the coordinate system's VLRs
 };
@@ -56,6 +56,12 @@ struct LasHeader {
     std::array<double, 3> min{};
     std::array<double, 3> max{};
     std::vector<Vlr> vlrs;
+    // LAS 1.4's extended VLRs, after the point records: where they start and how many, and those
+    // of the coordinate system (LASF_Projection) with their payloads, read from a file (not from a
+    // pipe or a compressed stream, which cannot seek there).
+    std::uint64_t evlr_start = 0;
+    std::uint32_t evlr_count = 0;
+    std::vector<Vlr> crs_evlrs;
     // Where data the format puts after the point records starts (LAS 1.3 waveform packets, LAS
     // 1.4 extended VLRs); 0 when none: then any bytes after the last record are unexpected.
     std::uint64_t start_after_points = 0;

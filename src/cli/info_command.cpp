@@ -108,6 +108,12 @@ Json header_json(const LasHeader& h, const std::optional<ScanResult>& scan) {
                                 {"record_id", vlr.record_id},
                                 {"length", vlr.length},
                                 {"description", latin1_to_utf8(vlr.description)}});
+    json["evlr_count"] = h.evlr_count;
+    json["crs_evlrs"] = Json::array();
+    for (const Vlr& vlr : h.crs_evlrs)
+        json["crs_evlrs"].push_back({{"record_id", vlr.record_id},
+                                     {"length", vlr.data.size()},
+                                     {"description", latin1_to_utf8(vlr.description)}});
     if (scan)
         json["scanned"] = {{"point_count", scan->point_count},
                            {"bounds", {{"min", scan->min}, {"max", scan->max}}},
@@ -193,6 +199,12 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
     for (const Vlr& vlr : h.vlrs)
         out << "  " << escaped(vlr.user_id) << " / " << vlr.record_id << "  " << vlr.length << " bytes  "
             << escaped(vlr.description) << '\n';
+    if (h.evlr_count > 0) {
+        out << "EVLRs                " << h.evlr_count << " (from byte " << h.evlr_start << ")\n";
+        for (const Vlr& vlr : h.crs_evlrs)
+            out << "  LASF_Projection / " << vlr.record_id << "  " << vlr.data.size() << " bytes  "
+                << escaped(vlr.description) << '\n';
+    }
     if (scan) {
         out << "scanned point count  " << scan->point_count << "\nscanned bounds min   "
             << join_scaled(scan->min, h.scale) << "\nscanned bounds max   " << join_scaled(scan->max, h.scale) << '\n';

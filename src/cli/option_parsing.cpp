@@ -118,7 +118,7 @@ SimplifyRequest parse_simplify(const std::string& text) {
     if (number.empty() || ec != std::errc{} || end != number.data() + number.size() || !std::isfinite(value) ||
         value < 0)
         usage_error("--simplify \"" + text +
-                    "\": expected a length in the file's units, a fraction of a cell (e.g. "
+                    "\": expected a length (in the unit of the coordinate system), a fraction of a cell (e.g. "
                     "0.5cell), or 0 for none");
     SimplifyRequest request;
     request.error = value;

@@ -28,8 +28,9 @@ constexpr std::uint16_t model_type_key = 1024, citation_key = 1026, geographic_t
 constexpr std::uint16_t user_defined = 32767;
 
 const Vlr* find_vlr(const LasHeader& header, std::uint16_t record) {
-    for (const Vlr& vlr : header.vlrs)
-        if (vlr.user_id == projection_user_id && vlr.record_id == record && !vlr.data.empty()) return &vlr;
+    for (const std::vector<Vlr>* list : {&header.vlrs, &header.crs_evlrs})
+        for (const Vlr& vlr : *list)
+            if (vlr.user_id == projection_user_id && vlr.record_id == record && !vlr.data.empty()) return &vlr;
     return nullptr;
 }
 

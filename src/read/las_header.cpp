@@ -7,9 +7,12 @@
 #include "lasmesh/error.hpp"
 #include "read/input_stream.hpp"
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -157,6 +160,10 @@ LasHeader read_las_header(InputStream& in) {
                                          ": the header is inconsistent; rewrite it, e.g. with `las2las`");
     if (h.version_minor >= 3) h.start_after_points = load_le<std::uint64_t>(b + 227); // waveform data
     if (h.version_minor >= 4 && h.start_after_points == 0) h.start_after_points = load_le<std::uint64_t>(b + 235);
+    if (h.version_minor >= 4) {
+        h.evlr_start = load_le<std::uint64_t>(b + 235);
+        h.evlr_count = load_le<std::uint32_t>(b + 243);
+    }
 
     // LAZ (LASzip): bit 7 (and bit 6 from early writers) marks compressed points; the record
     // length stays that of the uncompressed record.
@@ -257,6 +264,33 @@ void check_header_bounds_usable(const LasHeader& h, const std::string& name) {
                               field + " span more than a mesh's float positions can hold: the header is "
                                       "damaged; scan the points for their bounds, or give bounds",
                               "scan_bounds,bounds");
+    }
+}
+
+void read_crs_evlrs(const std::string& path, LasHeader& header) {
+    constexpr std::uint64_t evlr_header = 60, largest_kept = std::uint64_t{1} << 20;
+    if (header.evlr_count == 0 || header.evlr_start == 0) return;
+    std::ifstream file(path, std::ios::binary);
+    file.seekg(0, std::ios::end);
+    const auto size = static_cast<std::uint64_t>(std::max<std::streamoff>(file.tellg(), 0));
+    std::uint64_t at = header.evlr_start;
+    for (std::uint32_t i = 0; i < header.evlr_count && file && at <= size && size - at >= evlr_header; ++i) {
+        std::array<std::byte, evlr_header> head{};
+        file.seekg(static_cast<std::streamoff>(at));
+        if (!file.read(reinterpret_cast<char*>(head.data()), evlr_header)) return;
+        const std::uint64_t length = load_le<std::uint64_t>(head.data() + 20);
+        if (length > size - at - evlr_header) return;
+        Vlr vlr;
+        vlr.user_id = fixed_string(head.data() + 2, 16);
+        vlr.record_id = load_le<std::uint16_t>(head.data() + 18);
+        vlr.length = static_cast<std::uint16_t>(std::min<std::uint64_t>(length, 65535));
+        vlr.description = fixed_string(head.data() + 28, 32);
+        if (vlr.user_id == "LASF_Projection" && length <= largest_kept) {
+            vlr.data.resize(length);
+            if (!file.read(reinterpret_cast<char*>(vlr.data.data()), static_cast<std::streamsize>(length))) return;
+            header.crs_evlrs.push_back(std::move(vlr));
+        }
+        at += evlr_header + length;
     }
 }
 

@@ -33,6 +33,11 @@ std::string version_string(const LasHeader& header);
 // inconsistent sizes or offsets, bad scale factors, VLRs that overrun the point data.
 LasHeader read_las_header(InputStream& in);
 
+// The coordinate system's extended VLRs (LASF_Projection, LAS 1.4) of the file at `path`, into
+// header.crs_evlrs: a handle of its own seeks to them. EVLRs that do not fit in the file are
+// left out (they describe, they hold no points); payloads over 1 MiB are not kept.
+void read_crs_evlrs(const std::string& path, LasHeader& header);
+
 // Header bounds are used as the grid's box: throws Error (input), naming the header field, when
 // an axis's bounds lie beyond every coordinate a record can encode (offset + scale * int32) or
 // span more than float positions can hold. `name` is the input's, for the message.

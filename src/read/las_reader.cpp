@@ -29,6 +29,7 @@ LasHeader read_header(InputStream& stream) {
 
 LasReader::LasReader(const std::string& path)
     : stream_(std::make_unique<InputStream>(path)), header_(read_header(*stream_)) {
+    if (path != "-" && stream_->compression() == Compression::none) read_crs_evlrs(path, header_);
     if (header_.compressed) laz_ = std::make_unique<laz::LazDecoder>(*stream_, header_, path);
 }
 

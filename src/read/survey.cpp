@@ -24,14 +24,15 @@ constexpr double int32_lowest = std::numeric_limits<std::int32_t>::min();
 constexpr double int32_highest = std::numeric_limits<std::int32_t>::max();
 
 // Files of one survey repeat the same CRS VLRs, and PROJ takes a context to read one: each
-// distinct declaration is read once. The key is what read_crs reads: the WKT bit and the VLRs.
+// distinct declaration is read once. The key is what read_crs reads: the WKT bit and the (E)VLRs.
 std::string crs_key(const LasHeader& h) {
     std::string key(1, static_cast<char>(h.global_encoding >> 4 & 1));
-    for (const Vlr& vlr : h.vlrs) {
-        if (vlr.user_id != "LASF_Projection") continue;
-        key += std::to_string(vlr.record_id) + ":" + std::to_string(vlr.data.size()) + ":";
-        key.append(reinterpret_cast<const char*>(vlr.data.data()), vlr.data.size());
-    }
+    for (const std::vector<Vlr>* list : {&h.vlrs, &h.crs_evlrs})
+        for (const Vlr& vlr : *list) {
+            if (vlr.user_id != "LASF_Projection") continue;
+            key += std::to_string(vlr.record_id) + ":" + std::to_string(vlr.data.size()) + ":";
+            key.append(reinterpret_cast<const char*>(vlr.data.data()), vlr.data.size());
+        }
     return key;
 }
 

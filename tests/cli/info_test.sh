@@ -13,7 +13,7 @@ check "json has the documented keys" python3 -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert set(d) == {"version", "records", "point_format", "point_record_length", "point_count", "scale", "offset",
-                  "bounds", "has_color", "crs", "vlrs", "scanned"}, sorted(d)
+                  "bounds", "has_color", "crs", "vlrs", "evlr_count", "crs_evlrs", "scanned"}, sorted(d)
 assert d["crs"] is None, d["crs"]
 assert d["records"] == "las", d["records"]
 assert d["version"] == "1.4" and d["point_format"] == 7 and d["point_count"] == 30000
