@@ -9,9 +9,11 @@
 #include "io/output_file.hpp"
 #include "io/ply_writer.hpp"
 #include "io/same_file.hpp"
+#include "io/tileset_writer.hpp"
 #include "io/write_into.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/normals.hpp"
+#include "measure/level_error.hpp"
 #include "mesh/marching_cubes.hpp"
 #include "mesh/surface_sheet.hpp"
 #include "read/crs.hpp"
@@ -249,6 +251,21 @@ Bounds scanned_bounds(Survey& survey, bool skip_bad) {
     return all.value_or(Bounds{});
 }
 
+// A tileset's tiles span tile_cells cells of their level: the root, coarsest level is the grid
+// coarsened until one tile covers the survey in x and y; each finer level halves the cells and
+// the tiles (a quadtree on one lattice, whose corner is the grid's).
+constexpr std::uint32_t tile_cells = 64;
+
+TilesetLattice tileset_lattice(const GridSpec& finest, std::size_t& levels) {
+    const std::uint32_t longest = std::max(finest.dims[0], finest.dims[1]);
+    levels = 1;
+    while ((std::uint64_t{tile_cells} << (levels - 1)) < longest) ++levels;
+    TilesetLattice lattice;
+    lattice.corner = finest.origin;
+    lattice.root_edge = finest.cell_size * double(std::uint64_t{tile_cells} << (levels - 1));
+    return lattice;
+}
+
 } // namespace
 
 BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
@@ -355,6 +372,11 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
                              std::to_string(r.occupied_cells) + " occupied cells hold a median of " +
                              std::to_string(r.median_count) +
                              " points each; a finer grid, or bounds around each part of the data, resolves them");
+    for (std::size_t i = 0; i < formats.size(); ++i)
+        if (formats[i] == MeshFormat::tileset && !(survey.crs && survey.crs->identified()))
+            r.warnings.push_back(
+                "note: " + o.outputs[i].path + " is not placed on the globe: " +
+                (survey.crs ? "its coordinate system is not identified" : "the input declares no coordinate system"));
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " + megabytes(r.pool_bytes) +
                  " of bricks in " + two_digits(r.read_accumulate) + " s");
@@ -366,51 +388,101 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     if (o.max_memory) check_extraction_memory(grid, r.iso, o, formats, r.input, accumulate.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
-    // The sheet releases the grid's cells as soon as it no longer reads them.
-    Mesh mesh = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(grid), r.iso)
-                                                : extract_closed_surface(grid, r.iso, o.placement);
-    const std::size_t extracted = mesh.triangles.size();
-    grid = CellGrid{}; // not needed any more: the writers get its memory
-    watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(r.iso));
-    watch.stage_started(BuildStage::extract, "removing small pieces");
-    r.pieces = remove_small_pieces(mesh, o.min_piece);
-    SimplifyOptions simplify;
-    simplify.error = o.simplify.in_cells ? o.simplify.error * r.grid.cell_size : o.simplify.error;
-    simplify.lock_border = o.simplify.lock_border;
-    if (simplify.error > 0)
-        watch.stage_started(BuildStage::extract, "simplifying " + std::to_string(mesh.triangles.size()) + " triangles");
-    r.simplify = simplify_mesh(mesh, simplify);
-    if (simplify.error > 0)
-        watch.detail("simplified     " + std::to_string(r.simplify.triangles_before) + " to " +
-                     std::to_string(r.simplify.triangles_after) + " triangles within " + four_digits(simplify.error) +
-                     " in " + two_digits(r.simplify.seconds) + " s");
-    if (mesh.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
-    if (!o.normals)
-        mesh.normals.clear();
-    else if (mesh.normals.empty()) {
-        watch.stage_started(BuildStage::extract, "computing normals");
-        compute_vertex_normals(mesh); // the extraction gave none
+    // A tileset's coarser levels, coarsest first: the grid's cells merged 2 x 2 x 2, exactly.
+    const bool tileset = std::find(formats.begin(), formats.end(), MeshFormat::tileset) != formats.end();
+    std::size_t level_count = 1;
+    TilesetLattice lattice;
+    std::vector<CellGrid> coarser;
+    if (tileset) {
+        lattice = tileset_lattice(grid.spec, level_count);
+        for (std::size_t k = 1; k < level_count; ++k)
+            coarser.insert(coarser.begin(), coarsen_grid(k == 1 ? grid : coarser.front()));
     }
+    // Extraction, small pieces, simplification and normals: the mesh of one grid.
+    const auto surface_of = [&](CellGrid&& cells, double iso, PieceCount* pieces, SimplifyReport* simplified) {
+        const double cell = cells.spec.cell_size;
+        // The sheet releases the grid's cells as soon as it no longer reads them.
+        Mesh m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
+                                                 : extract_closed_surface(cells, iso, o.placement);
+        cells = CellGrid{}; // not needed any more: the writers get its memory
+        const std::size_t extracted = m.triangles.size();
+        if (pieces)
+            watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso));
+        if (pieces) watch.stage_started(BuildStage::extract, "removing small pieces");
+        const PieceCount removed = remove_small_pieces(m, o.min_piece);
+        SimplifyOptions simplify;
+        simplify.error = o.simplify.in_cells ? o.simplify.error * cell : o.simplify.error;
+        simplify.lock_border = o.simplify.lock_border;
+        if (pieces && simplify.error > 0)
+            watch.stage_started(BuildStage::extract,
+                                "simplifying " + std::to_string(m.triangles.size()) + " triangles");
+        const SimplifyReport report = simplify_mesh(m, simplify);
+        if (pieces && simplify.error > 0)
+            watch.detail("simplified     " + std::to_string(report.triangles_before) + " to " +
+                         std::to_string(report.triangles_after) + " triangles within " + four_digits(simplify.error) +
+                         " in " + two_digits(report.seconds) + " s");
+        if (pieces) *pieces = removed;
+        if (simplified) *simplified = report;
+        if (pieces && m.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
+        if (!o.normals)
+            m.normals.clear();
+        else if (m.normals.empty()) {
+            if (pieces) watch.stage_started(BuildStage::extract, "computing normals");
+            compute_vertex_normals(m); // the extraction gave none
+        }
+        m.crs = r.crs_recorded;
+        return m;
+    };
+    Mesh mesh = surface_of(std::move(grid), r.iso, &r.pieces, &r.simplify);
+    // The coarser levels of a tileset, each measured against the finest.
+    std::vector<Mesh> coarse_meshes; // reserved: levels point into it
+    coarse_meshes.reserve(coarser.size());
+    std::vector<TilesetLevel> levels;
+    for (std::size_t k = 0; k < coarser.size(); ++k) {
+        watch.stage_started(BuildStage::extract, "level " + std::to_string(k) + " of the tileset");
+        const double scale = std::ldexp(1.0, 2 * static_cast<int>(coarser.size() - k)); // points per surface cell
+        const double iso = r.iso_auto ? automatic_iso(coarser[k]) : r.iso * scale;
+        const auto level_start = std::chrono::steady_clock::now();
+        coarse_meshes.push_back(surface_of(std::move(coarser[k]), iso, nullptr, nullptr));
+        remove_far_from(coarse_meshes.back(), mesh, 2 * coarse_meshes.back().cell_size);
+        const double error = level_error(coarse_meshes.back(), mesh);
+        watch.detail("level " + std::to_string(k) + "        " + std::to_string(coarse_meshes.back().triangles.size()) +
+                     " triangles, cells of " + four_digits(coarse_meshes.back().cell_size) + ", " + four_digits(error) +
+                     " from the finest, in " + two_digits(seconds_since(level_start)) + " s");
+        levels.push_back({&coarse_meshes.back(), error});
+    }
+    levels.push_back({&mesh, 0});
     r.extract = seconds_since(extract_start);
     r.vertices = mesh.positions.size(), r.triangles = mesh.triangles.size(), r.colored = !mesh.colors.empty();
     r.normals = !mesh.normals.empty();
     r.origin = mesh.origin;
-    mesh.crs = r.crs_recorded;
     watch.stage_ended(BuildStage::extract, r);
 
     // Every output into its temporary file first, then all renamed: all of them or none.
     const auto write_start = std::chrono::steady_clock::now();
     std::vector<std::unique_ptr<OutputFile>> files;
+    std::optional<WrittenTileset> tiles;
+    std::string tileset_path;
     for (std::size_t i = 0; i < o.outputs.size(); ++i) {
         const OutputRequest& output = o.outputs[i];
         watch.stage_started(BuildStage::write, "writing " + output.path);
         const auto output_start = std::chrono::steady_clock::now();
         files.push_back(std::make_unique<OutputFile>(output.path));
-        // Named after the input, or with several after the output: never after one input of many.
-        const std::string name = mesh_name(inputs.size() == 1 ? inputs.front() : output.path);
-        write_mesh_into(mesh, output, formats[i], name, *files.back());
+        std::uint64_t bytes = 0;
+        if (formats[i] == MeshFormat::tileset) {
+            TilesetContent content;
+            content.glb = {output.glb_compression, GltfOrigin::extras, "tile", output.draco};
+            content.crs = survey.crs;
+            tiles = write_tileset(levels, lattice, content, *files.back());
+            tileset_path = output.path;
+            bytes = tiles->content_bytes;
+        } else {
+            // Named after the input, or with several after the output: never after one input of many.
+            const std::string name = mesh_name(inputs.size() == 1 ? inputs.front() : output.path);
+            write_mesh_into(mesh, output, formats[i], name, *files.back());
+        }
         files.back()->finish();
-        r.outputs.push_back({output.path, files.back()->bytes(), seconds_since(output_start)});
+        r.outputs.push_back({output.path, bytes + files.back()->bytes(), seconds_since(output_start)});
         watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");
     }
     r.write = seconds_since(write_start);
@@ -420,7 +492,15 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
         files.push_back(std::make_unique<OutputFile>(o.report));
         files.back()->write(run_report_json(r));
     }
-    commit_all(files);
+    try {
+        commit_all(files);
+    } catch (const Error&) {
+        std::error_code ignored; // the tiles of a tileset that did not appear
+        if (tiles && tiles->folder_created)
+            std::filesystem::remove_all(std::filesystem::path(tileset_path).parent_path() / tiles->folder, ignored);
+        throw;
+    }
+    if (tiles) remove_earlier_tiles(tileset_path, tiles->folder);
     watch.stage_ended(BuildStage::write, r);
     if (o.keep_mesh) result.mesh = std::move(mesh);
     return result;

@@ -33,6 +33,9 @@ enum class MeshFormat {
     draco, // .drc: Draco-compressed mesh
     glb,   // glTF 2.0 binary, plain or Draco-compressed
     png,   // a preview picture of the mesh (written only)
+    // An OGC 3D Tiles 1.1 tileset (.json): levels of detail cut into .glb tiles, placed on the
+    // globe when the data has a coordinate system. Written by build_mesh only (it needs the grid).
+    tileset,
 };
 
 struct DracoOptions {
@@ -59,7 +62,8 @@ struct OutputRequest {
     GltfOrigin glb_origin = GltfOrigin::extras;              // glb only: translation node or not
 };
 
-// The format an output path's extension names (.ply, .drc, .glb, .png, any case), or nullopt.
+// The format an output path's extension names (.ply, .drc, .glb, .png, .json: a tileset; any
+// case), or nullopt.
 std::optional<MeshFormat> format_from_extension(const std::string& path);
 
 // Writes `mesh` as `output` asks; `name` names the .glb's scene, node, mesh and material.

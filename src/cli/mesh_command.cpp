@@ -57,7 +57,8 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
                  "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
-                   ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview)")
+                   ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview), "
+                   ".json (a 3D Tiles tileset of .glb tiles, levels of detail)")
         ->type_name("FILE");
     add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")

@@ -26,6 +26,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path) {
     if (ext == ".drc") return MeshFormat::draco;
     if (ext == ".glb") return MeshFormat::glb;
     if (ext == ".png") return MeshFormat::png;
+    if (ext == ".json") return MeshFormat::tileset;
     return std::nullopt;
 }
 
@@ -33,7 +34,9 @@ MeshFormat output_format(const OutputRequest& output) {
     const std::optional<MeshFormat> format = output.format ? output.format : format_from_extension(output.path);
     if (!format)
         throw Error(ErrorKind::usage,
-                    "output \"" + output.path + "\": unknown extension, expected .ply, .drc, .glb or .png", "outputs");
+                    "output \"" + output.path +
+                        "\": unknown extension, expected .ply, .drc, .glb, .png or .json (a tileset)",
+                    "outputs");
     return *format;
 }
 
@@ -56,6 +59,9 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
 
 void write_mesh(const Mesh& mesh, const OutputRequest& output, const std::string& name) {
     const MeshFormat format = output_format(output);
+    if (format == MeshFormat::tileset)
+        throw Error(ErrorKind::usage,
+                    "output \"" + output.path + "\": a tileset is written by build_mesh, from the grid", "outputs");
     if (format != MeshFormat::ply && mesh.triangles.empty())
         throw Error(ErrorKind::output, output.path + ": the mesh has no triangles");
     OutputFile file(output.path);
