@@ -438,14 +438,16 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     std::vector<Mesh> coarse_meshes; // reserved: levels point into it
     coarse_meshes.reserve(coarser.size());
     std::vector<TilesetLevel> levels;
+    std::optional<FinestLevel> finest;
+    if (!coarser.empty()) finest.emplace(mesh);
     for (std::size_t k = 0; k < coarser.size(); ++k) {
         watch.stage_started(BuildStage::extract, "level " + std::to_string(k) + " of the tileset");
         const double scale = std::ldexp(1.0, 2 * static_cast<int>(coarser.size() - k)); // points per surface cell
         const double iso = r.iso_auto ? automatic_iso(coarser[k]) : r.iso * scale;
         const auto level_start = std::chrono::steady_clock::now();
         coarse_meshes.push_back(surface_of(std::move(coarser[k]), iso, nullptr, nullptr));
-        remove_far_from(coarse_meshes.back(), mesh, 2 * coarse_meshes.back().cell_size);
-        const double error = level_error(coarse_meshes.back(), mesh);
+        finest->remove_far(coarse_meshes.back(), 2 * coarse_meshes.back().cell_size);
+        const double error = finest->error(coarse_meshes.back());
         watch.detail("level " + std::to_string(k) + "        " + std::to_string(coarse_meshes.back().triangles.size()) +
                      " triangles, cells of " + four_digits(coarse_meshes.back().cell_size) + ", " + four_digits(error) +
                      " from the finest, in " + two_digits(seconds_since(level_start)) + " s");

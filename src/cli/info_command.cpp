@@ -3,6 +3,8 @@
 // facts and then the survey's (the union the mesh would cover).
 #include "info_command.hpp"
 
+#include "tileset_info.hpp"
+
 #include "io/json.hpp"
 #include "lasmesh/error.hpp"
 #include "lasmesh/las_reader.hpp"
@@ -217,6 +219,12 @@ void write_text(const LasReader& reader, const std::optional<ScanResult>& scan, 
 } // namespace
 
 void run_info(const InfoOptions& options, std::ostream& out, std::ostream& log) {
+    for (const std::string& input : options.inputs)
+        if (is_tileset_path(input)) {
+            if (options.inputs.size() > 1 || options.scan)
+                throw Error(ErrorKind::usage, "a tileset (" + input + ") is shown alone, without --scan", "inputs");
+            return write_tileset_info(input, options.json, out);
+        }
     Json files = Json::array();
     for (const std::string& input : options.inputs) {
         LasReader reader(input);

@@ -54,12 +54,15 @@ int main(int argc, char** argv) {
 
     lasmesh::cli::InfoOptions info;
     CLI::App* info_command = app.add_subcommand(
-        "info", "Print the header facts of LAS or LAZ files; of several, also what they make as one survey");
+        "info", "Print the header facts of LAS or LAZ files; of several, also what they make as one survey; "
+                "or the levels of a 3D Tiles tileset (.json)");
     info_command->footer("Examples:\n  lasmesh info deck.las\n  lasmesh info --scan --json deck.las\n"
-                         "  xzcat deck.las.xz | lasmesh info -\n  lasmesh info station*.laz");
+                         "  xzcat deck.las.xz | lasmesh info -\n  lasmesh info station*.laz\n"
+                         "  lasmesh info site/tileset.json");
     info_command
         ->add_option("INPUT", info.inputs,
-                     "LAS or LAZ files, or - for standard input (gzip, bzip2, xz, zstd recognised)")
+                     "LAS or LAZ files, or - for standard input (gzip, bzip2, xz, zstd recognised); or one "
+                     "tileset .json")
         ->type_name("FILE...")
         ->required();
     info_command->add_flag("--json", info.json, "One JSON object instead of text");

@@ -34,6 +34,23 @@ node "$here/gltf_validate.js" "$validator" "${tiles[@]}" > "$dir/validator.txt";
 check "glTF validator: no errors in any tile" test "$rc" -eq 0
 grep -v ": 0 errors" "$dir/validator.txt" | head -5
 
+# info: the levels, and the finest level's triangles counted from the tiles are the run's mesh's.
+"$lasmesh" info "$dir/site/tileset.json" > "$dir/info.txt"
+check "info names the tileset and its placement" has "$dir/info.txt" "placed               on the globe"
+"$lasmesh" info --json "$dir/site/tileset.json" > "$dir/info.json"
+mesh_triangles=$(awk '$1 == "mesh" {print $4}' "$dir/summary.txt")
+check "info: the finest level's triangles are the mesh's" python3 -c '
+import json, sys
+info = json.load(open(sys.argv[1]))
+t = json.load(open(sys.argv[2]))
+assert len(info["levels"]) == len(t["extras"]["lasmesh"]["levels"]) >= 2, info
+assert info["levels"][-1]["triangles"] == int(sys.argv[3]), (info["levels"][-1], sys.argv[3])
+assert info["levels"][0]["tiles"] == 1 and info["placed"] is True' "$dir/info.json" "$dir/site/tileset.json" "$mesh_triangles"
+echo '{"asset": {}}' > "$dir/bad.json"
+"$lasmesh" info "$dir/bad.json" > "$dir/bad.txt" 2>&1; rc=$?
+check "info of a JSON that is no tileset: input error naming it" test "$rc" -eq 2
+check "and saying why" has "$dir/bad.txt" "bad.json: not a 3D Tiles tileset"
+
 "$lasmesh" "$dir/deck.las" -o "$dir/draco/tileset.json" --glb-compression draco -q
 tiles_of "$dir/draco/tileset.json" > "$dir/draco.txt"
 mapfile -t tiles < "$dir/draco.txt"
