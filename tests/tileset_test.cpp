@@ -35,7 +35,9 @@ struct Site {
     BuildResult build(const std::string& json, int grid = 300) const {
         BuildOptions o;
         o.grid = GridRequest::longest(grid);
-        o.outputs.push_back({json});
+        OutputRequest tileset;
+        tileset.path = json;
+        o.outputs.push_back(tileset);
         o.keep_mesh = true;
         return build_mesh(input, o);
     }

@@ -14,7 +14,6 @@
 #include <map>
 #include <memory>
 #include <random>
-#include <regex>
 
 namespace lasmesh {
 
@@ -225,13 +224,17 @@ WrittenTileset write_tileset(const std::vector<TilesetLevel>& levels, const Tile
 void remove_earlier_tiles(const std::string& json_path, const std::string& kept_folder) {
     const fs::path path(json_path);
     const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-    const std::regex ours(std::regex_replace(path.stem().string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                          "-[0-9a-f]{16}");
+    const std::string prefix = path.stem().string() + "-";
+    // Ours: NAME- and 16 lower-case hexadecimal digits, as write_tileset names them.
+    const auto ours = [&](const std::string& name) {
+        return name.size() == prefix.size() + 16 && name.compare(0, prefix.size(), prefix) == 0 &&
+               std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()), name.end(),
+                           [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+    };
     std::error_code ignored;
     for (const fs::directory_entry& entry : fs::directory_iterator(folder, ignored)) {
         const std::string name = entry.path().filename().string();
-        if (name != kept_folder && entry.is_directory(ignored) && std::regex_match(name, ours))
-            fs::remove_all(entry.path(), ignored);
+        if (name != kept_folder && entry.is_directory(ignored) && ours(name)) fs::remove_all(entry.path(), ignored);
     }
 }
 
