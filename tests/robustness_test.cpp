@@ -12,9 +12,7 @@
 #include "number_text.hpp"
 #include "test_support.hpp"
 
-#include <boost/iostreams/copy.hpp>
 #include <boost/iostreams/filter/gzip.hpp>
-#include <boost/iostreams/filtering_stream.hpp>
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -36,16 +34,7 @@ Bytes sphere_las(std::uint64_t count) {
 }
 
 Bytes gzip(const Bytes& plain) {
-    std::istringstream source(std::string(reinterpret_cast<const char*>(plain.data()), plain.size()));
-    std::ostringstream sink;
-    boost::iostreams::filtering_ostream out;
-    out.push(boost::iostreams::gzip_compressor());
-    out.push(sink);
-    boost::iostreams::copy(source, out);
-    const std::string text = sink.str();
-    Bytes bytes(text.size());
-    std::memcpy(bytes.data(), text.data(), text.size());
-    return bytes;
+    return test::compress(plain, boost::iostreams::gzip_compressor());
 }
 
 std::uint64_t read_everything(LasReader& reader) {

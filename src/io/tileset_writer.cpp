@@ -116,7 +116,6 @@ WrittenTileset write_tileset(const std::vector<TilesetLevel>& levels, const Tile
     if (content.crs && content.crs->identified()) {
         frame = std::make_unique<GlobeFrame>(*content.crs, centre);
         metres = content.crs->unit_metres > 0 ? content.crs->unit_metres : 1;
-        written.placed = true;
     } else {
         written.note =
             content.crs ? "its coordinate system is not identified" : "the input declares no coordinate system";

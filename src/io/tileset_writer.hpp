@@ -50,8 +50,7 @@ struct WrittenTileset {
     std::vector<double> geometric_error;       // per level, in metres (or the data's unit)
     std::uint64_t content_bytes = 0;
     bool folder_created = false; // false: the same contents were there from an earlier run
-    bool placed = false;
-    std::string note; // why the tileset is not on the globe, when it is not
+    std::string note;            // why the tileset is not on the globe; empty when it is
 };
 
 // Writes the contents into place and NAME.json into `json` (not yet committed). `levels` are
