@@ -24,6 +24,8 @@ test_packages=(
   assimp-utils python3-open3d
   # the fuzzer (tools/fuzz.sh): clang with libFuzzer and the sanitizer runtimes; the format check
   clang-14 libclang-rt-14-dev clang-format-14
+  # the browser test opens tilesets in CesiumJS and three.js in headless Chromium
+  chromium
 )
 # --demo: what the demo needs and only the targets named (lasmesh, lasgen), so a first run shows a
 # mesh after building two programs, not the test suite.

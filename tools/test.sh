@@ -15,6 +15,21 @@ lazperf_version=0.0.7
 if ! grep -qs "\"version\": \"$lazperf_version\"" build/laz-perf/node_modules/laz-perf/package.json; then
   npm install --prefix build/laz-perf --no-audit --no-fund --loglevel=error "laz-perf@$lazperf_version" > /dev/null
 fi
+# The browser test's packages (tests/browser/viewers.js), pinned: puppeteer-core drives Debian's
+# Chromium; CesiumJS and three.js with 3DTilesRendererJS open the tilesets.
+browser_packages=(puppeteer-core@24.43.1 cesium@1.145.0 three@0.187.0 3d-tiles-renderer@0.5.3)
+if [ "$(cat build/browser/installed 2>/dev/null)" != "${browser_packages[*]}" ]; then
+  npm install --prefix build/browser --no-audit --no-fund --loglevel=error "${browser_packages[@]}" > /dev/null
+  echo "${browser_packages[*]}" > build/browser/installed
+fi
+# CesiumGS's 3D Tiles validator, where the npm registry has it (some mirrors do not): without it,
+# the tileset_validator test reports Skipped.
+tiles_validator_version=0.6.0
+if ! grep -qs "\"version\": \"$tiles_validator_version\"" build/3d-tiles-validator/node_modules/3d-tiles-validator/package.json; then
+  npm install --prefix build/3d-tiles-validator --no-audit --no-fund --loglevel=error \
+    "3d-tiles-validator@$tiles_validator_version" > /dev/null 2>&1 ||
+    echo "test.sh: 3d-tiles-validator@$tiles_validator_version is not on this npm registry: the tileset_validator test is skipped" >&2
+fi
 # Two tests at a time: some wait on pipes and timers (135 s instead of 163 s on 2 cores).
 (cd build && ctest --output-on-failure --timeout 900 --parallel 2)
 

@@ -51,17 +51,19 @@ std::string man_page(const CLI::App& app, const std::string& version) {
     std::ostringstream out;
     out << ".TH LASMESH 1 \"\" \"lasmesh " << roff(version) << "\" \"User Commands\"\n"
         << ".SH NAME\nlasmesh \\- LAS and LAZ point clouds to small coloured triangle meshes\n"
-        << ".SH SYNOPSIS\n.B lasmesh\n.I INPUT\n.B \\-o\n.I OUT.ply|OUT.drc|OUT.glb\n[\\fIOPTIONS\\fR]\n.br\n";
+        << ".SH SYNOPSIS\n.B lasmesh\n.I INPUT...\n.B \\-o\n.I OUT.ply|OUT.drc|OUT.glb|SITE/TILESET.json\n[\\fIOPTIONS\\fR]\n.br\n";
     for (const CLI::App* command : app.get_subcommands({}))
         out << ".B lasmesh " << roff(command->get_name()) << "\n[\\fIOPTIONS\\fR] ...\n.br\n";
     out << ".SH DESCRIPTION\n"
-        << roff("lasmesh reads a LAS or LAZ point cloud (a file, or - for standard input; gzip, bzip2, xz and "
+        << roff("lasmesh reads LAS or LAZ point clouds (files, one survey of many files, or - for standard input; gzip, bzip2, xz and "
                 "zstd streams are recognised by their first bytes), counts the points into a sparse grid of "
                 "cubic cells on an OpenCL device (PoCL on the CPU, or any GPU), extracts one sheet through "
                 "the points of each surface (or a closed surface) by marching cubes, removes small isolated "
                 "pieces, simplifies the mesh to an error bound and writes it with per-vertex colour and normals "
                 "as PLY, Draco (.drc) or glTF 2.0 binary (.glb: plain by default, Draco with "
-                "--glb-compression draco), all outputs from one pass, all of them or none.")
+                "--glb-compression draco), all outputs from one pass, all of them or none. A .json output is an "
+                "OGC 3D Tiles 1.1 tileset: levels of detail from coarser grids, cut into .glb tiles on one "
+                "lattice, placed on the globe through the survey's coordinate system.")
         << "\n.PP\n"
         << roff("Output positions are single precision and relative to a local origin, so centimetres survive "
                 "at projected coordinates: the PLY header's comment origin X Y Z, the Draco metadata "
