@@ -51,11 +51,13 @@ std::string man_page(const CLI::App& app, const std::string& version) {
     std::ostringstream out;
     out << ".TH LASMESH 1 \"\" \"lasmesh " << roff(version) << "\" \"User Commands\"\n"
         << ".SH NAME\nlasmesh \\- LAS and LAZ point clouds to small coloured triangle meshes\n"
-        << ".SH SYNOPSIS\n.B lasmesh\n.I INPUT...\n.B \\-o\n.I OUT.ply|OUT.drc|OUT.glb|SITE/TILESET.json\n[\\fIOPTIONS\\fR]\n.br\n";
+        << ".SH SYNOPSIS\n.B lasmesh\n.I INPUT...\n.B \\-o\n.I "
+           "OUT.ply|OUT.drc|OUT.glb|SITE/TILESET.json\n[\\fIOPTIONS\\fR]\n.br\n";
     for (const CLI::App* command : app.get_subcommands({}))
         out << ".B lasmesh " << roff(command->get_name()) << "\n[\\fIOPTIONS\\fR] ...\n.br\n";
     out << ".SH DESCRIPTION\n"
-        << roff("lasmesh reads LAS or LAZ point clouds (files, one survey of many files, or - for standard input; gzip, bzip2, xz and "
+        << roff("lasmesh reads LAS or LAZ point clouds (files, one survey of many files, or - for standard input; "
+                "gzip, bzip2, xz and "
                 "zstd streams are recognised by their first bytes), counts the points into a sparse grid of "
                 "cubic cells on an OpenCL device (PoCL on the CPU, or any GPU), extracts one sheet through "
                 "the points of each surface (or a closed surface) by marching cubes, removes small isolated "
