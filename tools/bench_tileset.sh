@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # A 3D Tiles tileset against the single mesh at the same finest grid, same run: the whole run's
 # time and peak memory (best of 2 each, from --report), the root tile's bytes, and per level the
-# cell, tiles, triangles and measured geometric error.
+# cell, tiles, triangles and measured geometric error; fails unless the finest level holds the
+# single mesh's triangles (it is that mesh, cut into tiles).
 # Usage: tools/bench_tileset.sh [POINTS] [GRID]   (defaults 5,000,000 and auto)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +12,7 @@ work=$(mktemp -d) && trap 'rm -rf "$work"' EXIT
 build/lasgen --scene deck -n "$n" --order scan --epsg 32631 -o "$work/deck.las" > /dev/null
 mkdir -p "$work/site"
 field() { python3 -c "import json, sys; r = json.load(open(sys.argv[1])); print(r['seconds']['total'], r['peak_rss_bytes'])" "$1"; }
+triangles() { python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['triangles'])" "$1"; }
 best() { # best of 2: total seconds and peak bytes
   local name=$1 t=999 m=0
   shift
@@ -27,13 +29,16 @@ printf 'points %d, grid %s, %d cores\n' "$n" "$grid" "$(nproc)"
 printf 'single .glb:  %.3f s, %d MB peak\n' "$t_single" "$((m_single / 1000000))"
 printf 'tileset:      %.3f s, %d MB peak  (%.2fx the time, %.2fx the memory)\n' "$t_tiles" "$((m_tiles / 1000000))" \
   "$(echo "$t_tiles / $t_single" | bc -l)" "$(echo "$m_tiles / $m_single" | bc -l)"
-python3 - "$work/site/tileset.json" <<'PY'
+python3 - "$work/site/tileset.json" "$(triangles "$work/single.json")" <<'PY'
 import json, os, sys
-path = sys.argv[1]
+path, single = sys.argv[1], int(sys.argv[2])
 t = json.load(open(path))
 root = t["root"]["content"]["uri"]
 print(f"root tile: {os.path.getsize(os.path.join(os.path.dirname(path), root))} bytes")
 print("level  cell (m)  tiles  triangles  geometric error (m)")
 for k, level in enumerate(t["extras"]["lasmesh"]["levels"]):
     print(f"{k:5d}  {level['cell_size']:8.4f}  {level['tiles']:5d}  {level['triangles']:9d}  {level['geometric_error']:.4f}")
+finest = t["extras"]["lasmesh"]["levels"][-1]["triangles"]
+print(f"finest level {finest} triangles, the single mesh {single}: {'the same mesh' if finest == single else 'DIFFERENT'}")
+sys.exit(0 if finest == single else 1)
 PY
