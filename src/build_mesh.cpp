@@ -481,7 +481,8 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
         } else {
             // Named after the input, or with several after the output: never after one input of many.
             const std::string name = mesh_name(inputs.size() == 1 ? inputs.front() : output.path);
-            write_mesh_into(mesh, output, formats[i], name, *files.back());
+            write_mesh_into(mesh, output, formats[i], name, *files.back(),
+                            formats[i] == MeshFormat::html ? run_report_json(r) : std::string());
         }
         files.back()->finish();
         r.outputs.push_back({output.path, bytes + files.back()->bytes(), seconds_since(output_start)});

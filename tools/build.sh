@@ -12,7 +12,7 @@ packages=(
   # libraries: LAS streams, parallelism, command line, tests, JSON (command line only), OpenCL, Draco
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
-  libdraco-dev draco libpng-dev libproj-dev
+  libdraco-dev draco libpng-dev libproj-dev libmeshoptimizer-dev zlib1g-dev
 )
 # What only the tests and benchmarks use.
 test_packages=(
@@ -33,12 +33,11 @@ demo=0 targets=()
 for arg in "$@"; do
   case $arg in --demo) demo=1 ;; *) targets+=("$arg") ;; esac
 done
-if [ "$demo" -eq 0 ]; then
-  packages+=("${test_packages[@]}")
-  # npm (with Node.js) installs the Khronos glTF validator for the tests (tools/test.sh). Checked as
-  # a command: a Node.js from elsewhere (NodeSource) brings its own npm, and Debian's would clash.
-  command -v npm > /dev/null || packages+=(npm)
-fi
+if [ "$demo" -eq 0 ]; then packages+=("${test_packages[@]}"); fi
+# npm (with Node.js) installs three.js and esbuild for the .html viewer (below), and the tests'
+# validators and browser packages (tools/test.sh). Checked as a command: a Node.js from elsewhere
+# (NodeSource) brings its own npm, and Debian's would clash.
+command -v npm > /dev/null || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -51,6 +50,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# three.js and esbuild, pinned, for the .html output's viewer, bundled into lasmesh when it is
+# built (tools/bundle_viewer.sh); once.
+viewer_packages=(three@0.187.0 esbuild@0.28.2)
+if [ "$(cat build/viewer/installed 2>/dev/null)" != "${viewer_packages[*]}" ]; then
+  npm install --prefix build/viewer --no-audit --no-fund --loglevel=error "${viewer_packages[@]}" > /dev/null
+  echo "${viewer_packages[*]}" > build/viewer/installed
 fi
 
 build_type=${LASMESH_BUILD_TYPE:-Release}

@@ -60,7 +60,7 @@ git ls-files -z -co --exclude-standard | while IFS= read -r -d '' f; do
   cmp -s "$f" "$tree/$f" || { mkdir -p "$tree/$(dirname "$f")"; cp "$f" "$tree/$f"; }
 done
 mkdir -p "$build"
-for tool in gltf-validator laz-perf browser 3d-tiles-validator; do ln -sfn "$root/build/$tool" "$build/$tool"; done
+for tool in gltf-validator laz-perf browser 3d-tiles-validator viewer; do ln -sfn "$root/build/$tool" "$build/$tool"; done
 [ -d "$root/../shared" ] && export LASMESH_SHARED=${LASMESH_SHARED:-$root/../shared}
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$tree" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null

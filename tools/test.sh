@@ -38,6 +38,7 @@ fi
 # the command-line tests that feed the tool bad input (errors, LAZ) or run the whole pipeline
 # (mesh). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
 # tests, which go through the same library code as these with good input.
+mkdir -p build-asan && ln -sfn ../build/viewer build-asan/viewer # the .html viewer's npm packages
 if [ ! -f build-asan/Makefile ]; then # (a configure that failed leaves a cache but no Makefile)
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_UNITY_BUILD=ON \
     -DCMAKE_CXX_FLAGS="-O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" >/dev/null

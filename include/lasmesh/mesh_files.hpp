@@ -19,6 +19,8 @@
 //         axes), and as the node's translation with GltfOrigin::node.
 //   .png  a picture, not the mesh: four views (top, front, side, oblique) rendered on the CPU,
 //         1600 x 1200, for reports and for people without a 3D viewer (written only).
+//   .html a page that shows the mesh in any web browser, offline: orbit, measure, section, the
+//         run's facts; the mesh inside compressed (meshoptimizer, zlib) (written only).
 #pragma once
 
 #include "lasmesh/mesh.hpp"
@@ -33,6 +35,7 @@ enum class MeshFormat {
     draco, // .drc: Draco-compressed mesh
     glb,   // glTF 2.0 binary, plain or Draco-compressed
     png,   // a preview picture of the mesh (written only)
+    html,  // a self-contained page showing the mesh in a web browser (written only)
     // An OGC 3D Tiles 1.1 tileset (.json): levels of detail cut into .glb tiles, placed on the
     // globe when the data has a coordinate system. Written by build_mesh only (it needs the grid).
     tileset,
@@ -62,7 +65,7 @@ struct OutputRequest {
     GltfOrigin glb_origin = GltfOrigin::extras;              // glb only: translation node or not
 };
 
-// The format an output path's extension names (.ply, .drc, .glb, .png, .json: a tileset; any
+// The format an output path's extension names (.ply, .drc, .glb, .png, .html, .json: a tileset; any
 // case), or nullopt.
 std::optional<MeshFormat> format_from_extension(const std::string& path);
 
@@ -71,7 +74,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path);
 // mesh has no triangles (Draco and glTF need some).
 void write_mesh(const Mesh& mesh, const OutputRequest& output, const std::string& name = "mesh");
 
-// Reads a .ply (lasmesh's or any triangle PLY), .drc or .glb (not .png) by its extension, into a Mesh in the
+// Reads a .ply (lasmesh's or any triangle PLY), .drc or .glb (not .png or .html) by its extension, into a Mesh in the
 // file's local frame. Throws Error: usage for another extension, input naming the file, the byte
 // offset and what was expected.
 Mesh read_mesh(const std::string& path);

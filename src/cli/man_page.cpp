@@ -65,7 +65,8 @@ std::string man_page(const CLI::App& app, const std::string& version) {
                 "as PLY, Draco (.drc) or glTF 2.0 binary (.glb: plain by default, Draco with "
                 "--glb-compression draco), all outputs from one pass, all of them or none. A .json output is an "
                 "OGC 3D Tiles 1.1 tileset: levels of detail from coarser grids, cut into .glb tiles on one "
-                "lattice, placed on the globe through the survey's coordinate system.")
+                "lattice, placed on the globe through the survey's coordinate system. A .html output is one page that "
+                "shows the mesh in a web browser, offline, to look at, cut and measure.")
         << "\n.PP\n"
         << roff("Output positions are single precision and relative to a local origin, so centimetres survive "
                 "at projected coordinates: the PLY header's comment origin X Y Z, the Draco metadata "

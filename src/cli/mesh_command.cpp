@@ -58,6 +58,7 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
                    ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview), "
+                   ".html (a page showing the mesh in a web browser, offline, with measuring), "
                    ".json (a 3D Tiles tileset of .glb tiles, levels of detail)")
         ->type_name("FILE");
     add_grid_options(app, o.grid);

@@ -7,6 +7,7 @@
 #include "io/draco_writer.hpp"
 #include "io/gltf_reader.hpp"
 #include "io/gltf_writer.hpp"
+#include "io/html_writer.hpp"
 #include "io/output_file.hpp"
 #include "io/ply_reader.hpp"
 #include "io/ply_writer.hpp"
@@ -26,6 +27,7 @@ std::optional<MeshFormat> format_from_extension(const std::string& path) {
     if (ext == ".drc") return MeshFormat::draco;
     if (ext == ".glb") return MeshFormat::glb;
     if (ext == ".png") return MeshFormat::png;
+    if (ext == ".html") return MeshFormat::html;
     if (ext == ".json") return MeshFormat::tileset;
     return std::nullopt;
 }
@@ -35,13 +37,13 @@ MeshFormat output_format(const OutputRequest& output) {
     if (!format)
         throw Error(ErrorKind::usage,
                     "output \"" + output.path +
-                        "\": unknown extension, expected .ply, .drc, .glb, .png or .json (a tileset)",
+                        "\": unknown extension, expected .ply, .drc, .glb, .png, .html or .json (a tileset)",
                     "outputs");
     return *format;
 }
 
 void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
-                     OutputFile& file) {
+                     OutputFile& file, const std::string& facts_json) {
     if (format == MeshFormat::ply) return write_ply(mesh, file, output.ascii);
     std::string bytes;
     try {
@@ -49,6 +51,8 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
             bytes = encode_draco(mesh, output.draco);
         else if (format == MeshFormat::glb)
             bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
+        else if (format == MeshFormat::html)
+            bytes = encode_html(mesh, {name, facts_json});
         else
             bytes = encode_png(render_preview(mesh));
     } catch (const Error& e) {

@@ -17,8 +17,9 @@ class OutputFile;
 MeshFormat output_format(const OutputRequest& output);
 
 // The bytes of `output` in `format` (its own or from its extension) into `file`; Error (output)
-// messages start with the output's path.
+// messages start with the output's path. `facts_json` (a RunReport's JSON, or empty) goes into
+// .html pages.
 void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat format, const std::string& name,
-                     OutputFile& file);
+                     OutputFile& file, const std::string& facts_json = {});
 
 } // namespace lasmesh

@@ -95,7 +95,7 @@ check "level 0 (sequential) decodes with the same faces" test "$(ply_count "$dir
 # Refusals come before reading: the input named here does not even exist.
 "$lasmesh" "$dir/none.las" -o "$dir/x.xyz" 2> "$dir/err.txt"; rc=$?
 check "unknown extension is a usage error before reading" test "$rc" -eq 1
-check "unknown extension lists the formats" contains "$dir/err.txt" ".ply, .drc, .glb, .png or .json (a tileset)"
+check "unknown extension lists the formats" contains "$dir/err.txt" ".ply, .drc, .glb, .png, .html or .json (a tileset)"
 "$lasmesh" "$dir/none.las" -o "$dir/no/such/folder/x.drc" 2> "$dir/err.txt"; rc=$?
 check "missing folder for a .drc exits 4 before reading" test "$rc" -eq 4
 "$lasmesh" "$dir/none.las" -o "$dir/no/such/folder/x.glb" 2> /dev/null; rc=$?

@@ -87,7 +87,7 @@ expect "corrupt zstd" 2 'corrupt.las.zst: corrupt or truncated zstd stream' "$L 
 expect "empty stdin" 2 'standard input: is empty, expected a LAS file' "$L - < /dev/null"
 expect "directory" 2 'folder: is a directory, expected a LAS file' "$L folder"
 expect "missing file" 2 'missing.las: cannot open: No such file or directory' "$L missing.las"
-expect "unknown output extension" 1 'output "out.obj": unknown extension, expected .ply, .drc, .glb, .png or .json (a tileset) (-o)' "$L ok.las -o out.obj"
+expect "unknown output extension" 1 'output "out.obj": unknown extension, expected .ply, .drc, .glb, .png, .html or .json (a tileset) (-o)' "$L ok.las -o out.obj"
 # The output folder is checked before the input is opened: a missing input is not reported.
 expect "missing output folder" 4 'no/such/x.ply: the folder no/such does not exist' "$L missing.las -o no/such/x.ply"
 expect "output folder is a file" 4 'ok.las/x.ply: the folder ok.las does not exist' "$L ok.las -o ok.las/x.ply"

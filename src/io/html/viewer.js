@@ -1,0 +1,296 @@
+// SPDX-License-Identifier: Apache-2.0
+// The viewer inside lasmesh's .html pages (src/io/html_writer.hpp): it decodes the mesh the page
+// holds and shows it with three.js, lit or in its flat colours, with orbit, pan and zoom, a
+// measure tool (two clicks on the surface: the distance and dx, dy, dz in the file's units,
+// snapped to a vertex when one is within a few pixels), a horizontal section, and the run's facts.
+// Bundled with three.js by esbuild when lasmesh is built (tools/bundle_viewer.sh).
+import {
+  BufferAttribute, BufferGeometry, Color, DirectionalLight, DoubleSide, HemisphereLight, Line,
+  LineBasicMaterial, Mesh, MeshBasicMaterial, MeshStandardMaterial, PerspectiveCamera, Plane,
+  Raycaster, Scene, SphereGeometry, Vector2, Vector3, WebGLRenderer,
+} from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import { MeshoptDecoder } from "three/addons/libs/meshopt_decoder.module.js";
+
+const api = { ready: false, error: null };
+window.lasmesh = api;
+
+const base64Bytes = (id) => {
+  const text = atob(document.getElementById(id).textContent.trim());
+  const bytes = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+  return bytes;
+};
+const inflate = async (bytes) =>
+  new Uint8Array(await new Response(new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"))).arrayBuffer());
+
+// The page's mesh: header, integer positions, sRGB colours, normals, triangles.
+async function readMesh() {
+  const data = await inflate(base64Bytes("lasmesh-mesh"));
+  const view = new DataView(data.buffer);
+  if (new TextDecoder().decode(data.subarray(0, 4)) !== "LMSH" || view.getUint32(4, true) !== 1)
+    throw new Error("the page's mesh data is not lasmesh's version 1");
+  const headerLength = view.getUint32(8, true);
+  const header = JSON.parse(new TextDecoder().decode(data.subarray(12, 12 + headerLength)));
+  const start = Math.ceil((12 + headerLength) / 4) * 4;
+  const part = (name) => {
+    const b = header.buffers[name];
+    return b ? data.subarray(start + b.offset, start + b.offset + b.length) : null;
+  };
+  await MeshoptDecoder.ready;
+  const n = header.vertices;
+  const decode = (name, size, Type) => {
+    const source = part(name);
+    if (!source) return null;
+    const out = new Type((n * size) / Type.BYTES_PER_ELEMENT);
+    MeshoptDecoder.decodeVertexBuffer(new Uint8Array(out.buffer), n, size, source);
+    return out;
+  };
+  const quantized = decode("positions", 12, Int32Array); // x, y, z
+  const colors = decode("colors", 4, Uint8Array); // r, g, b, 255
+  const normals = decode("normals", 4, Int8Array); // x, y, z, 0
+  const indices = new Uint32Array(3 * header.triangles);
+  MeshoptDecoder.decodeIndexBuffer(new Uint8Array(indices.buffer), indices.length, 4, part("indices"));
+  return { header, quantized, colors, normals, indices };
+}
+
+// sRGB bytes to linear values (IEC 61966-2-1), as three.js expects vertex colours.
+const linear = new Float32Array(256).map((_, i) => {
+  const c = i / 255;
+  return c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4);
+});
+
+function geometryOf({ header, quantized, colors, normals, indices }) {
+  const n = header.vertices, step = header.step;
+  const positions = new Float32Array(3 * n);
+  for (let i = 0; i < 3 * n; i++) positions[i] = quantized[i] * step;
+  const geometry = new BufferGeometry();
+  geometry.setAttribute("position", new BufferAttribute(positions, 3));
+  geometry.setIndex(new BufferAttribute(indices, 1));
+  if (colors) {
+    const c = new Float32Array(3 * n);
+    for (let v = 0; v < n; v++) for (let k = 0; k < 3; k++) c[3 * v + k] = linear[colors[4 * v + k]];
+    geometry.setAttribute("color", new BufferAttribute(c, 3));
+  }
+  if (normals) {
+    const m = new Float32Array(3 * n);
+    for (let v = 0; v < n; v++) for (let k = 0; k < 3; k++) m[3 * v + k] = normals[4 * v + k] / 127;
+    geometry.setAttribute("normal", new BufferAttribute(m, 3));
+  } else {
+    geometry.computeVertexNormals();
+  }
+  geometry.computeBoundingBox();
+  geometry.computeBoundingSphere();
+  return geometry;
+}
+
+const unitOf = (facts) => {
+  const summary = facts && facts.crs && facts.crs.summary;
+  const match = summary && /, in ([^,]+)$/.exec(summary);
+  return match ? match[1] : "units";
+};
+
+function fill(id, rows) {
+  const table = document.getElementById(id);
+  table.replaceChildren();
+  for (const [name, value] of rows) {
+    if (value === undefined || value === null || value === "") continue;
+    const row = table.insertRow();
+    row.insertCell().textContent = name;
+    row.insertCell().textContent = value;
+  }
+}
+
+async function main() {
+  const decoded = await readMesh();
+  const { header } = decoded;
+  const facts = header.facts || {};
+  const unit = unitOf(facts);
+  const decimals = Math.max(3, Math.ceil(-Math.log10((header.cell_size || 1) / 100)));
+  const number = (x) => x.toFixed(decimals);
+  document.title = `${header.name} (lasmesh)`;
+  document.getElementById("name").textContent = header.name;
+  fill("facts", [
+    ["triangles", header.triangles.toLocaleString("en")],
+    ["vertices", header.vertices.toLocaleString("en")],
+    ["cell", header.cell_size ? `${number(header.cell_size)} ${unit}` : ""],
+    ["points", facts.points_read !== undefined ? facts.points_read.toLocaleString("en") : ""],
+    ["iso", facts.iso !== undefined ? `${facts.iso} ${facts.iso === 1 ? "point" : "points"} per cell` : ""],
+    ["simplify bound", facts.simplify && facts.simplify.error ? `${number(facts.simplify.error)} ${unit}` : ""],
+    ["CRS", (facts.crs && facts.crs.summary) || header.crs || "none declared"],
+    ["origin", header.origin.map((x) => x.toFixed(3)).join(" ")],
+  ]);
+  document.getElementById("triangles").textContent = String(header.triangles);
+
+  const geometry = geometryOf(decoded);
+  const hasColors = !!decoded.colors;
+  const section = new Plane(new Vector3(0, 0, -1), 0);
+  const lit = new MeshStandardMaterial({ vertexColors: hasColors, color: hasColors ? 0xffffff : 0xb4b4b4,
+    roughness: 1, metalness: 0, side: DoubleSide });
+  const flat = new MeshBasicMaterial({ vertexColors: hasColors, color: hasColors ? 0xffffff : 0xb4b4b4, side: DoubleSide });
+  const mesh = new Mesh(geometry, lit);
+
+  const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio);
+  renderer.setSize(window.innerWidth, window.innerHeight);
+  renderer.setClearColor(new Color("#dde4ea"));
+  renderer.localClippingEnabled = true;
+  document.body.appendChild(renderer.domElement);
+
+  const scene = new Scene();
+  scene.add(mesh);
+  const sky = new HemisphereLight(0xffffff, 0x707070, 1.6);
+  sky.position.set(0, 0, 1);
+  scene.add(sky);
+  const box = geometry.boundingBox, sphere = geometry.boundingSphere;
+  const radius = Math.max(sphere.radius, 1e-6);
+  const camera = new PerspectiveCamera(45, window.innerWidth / window.innerHeight, radius / 1000, radius * 100);
+  camera.up.set(0, 0, 1);
+  const sun = new DirectionalLight(0xffffff, 1.4);
+  sun.position.set(0.4, 0.6, 1);
+  camera.add(sun);
+  scene.add(camera);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  const render = () => renderer.render(scene, camera);
+  controls.addEventListener("change", render);
+
+  // Views: oblique from the south-west, or from above through a long lens (nearly orthographic:
+  // what is seen is the plan).
+  const look = (direction, fov) => {
+    camera.fov = fov;
+    const distance = radius / Math.sin((fov * Math.PI) / 360) * 1.05;
+    camera.position.copy(sphere.center).addScaledVector(direction.clone().normalize(), distance);
+    camera.near = distance / 1000;
+    camera.far = distance + radius * 4;
+    camera.updateProjectionMatrix();
+    controls.target.copy(sphere.center);
+    controls.update();
+    render();
+  };
+  const obliqueView = () => look(new Vector3(-0.55, -0.85, 0.75), 45);
+  const topView = () => look(new Vector3(0, -1e-4, 1), 8);
+  obliqueView();
+
+  // Section: everything above a horizontal plane is cut away.
+  const sectionBox = document.getElementById("section"), sectionHeight = document.getElementById("section-height");
+  sectionHeight.min = box.min.z;
+  sectionHeight.max = box.max.z;
+  sectionHeight.step = (box.max.z - box.min.z) / 200 || 1;
+  sectionHeight.value = (box.min.z + box.max.z) / 2;
+  const applySection = () => {
+    section.constant = Number(sectionHeight.value);
+    const planes = sectionBox.checked ? [section] : [];
+    lit.clippingPlanes = planes;
+    flat.clippingPlanes = planes;
+    lit.needsUpdate = flat.needsUpdate = true;
+    document.getElementById("section-value").textContent = sectionBox.checked
+      ? `z ${number(section.constant + header.origin[2])} ${unit}` : "";
+    render();
+  };
+  sectionBox.addEventListener("change", applySection);
+  sectionHeight.addEventListener("input", applySection);
+
+  const setFlat = (on) => {
+    mesh.material = on ? flat : lit;
+    document.getElementById("flat").checked = on;
+    render();
+  };
+  document.getElementById("flat").addEventListener("change", (e) => setFlat(e.target.checked));
+  document.getElementById("top").addEventListener("click", topView);
+  document.getElementById("reset").addEventListener("click", obliqueView);
+
+  // Measuring: a click (not a drag) on the surface picks a point; a vertex of the hit triangle
+  // within 8 pixels is taken instead (a point the file holds). Points are in the file's
+  // coordinates: the origin plus the integer times the step, in doubles.
+  const measureBox = document.getElementById("measure");
+  const markers = [];
+  const markerGeometry = new SphereGeometry(radius / 150, 16, 8);
+  const markerMaterial = new MeshBasicMaterial({ color: 0xe0115f, depthTest: false });
+  const lineMaterial = new LineBasicMaterial({ color: 0xe0115f, depthTest: false });
+  let picked = [], line = null;
+  const fileCoordinates = (vertex) => [0, 1, 2].map((k) => header.origin[k] + decoded.quantized[3 * vertex + k] * header.step);
+  const screenOf = (local) => {
+    const p = new Vector3(...local).project(camera);
+    const rect = renderer.domElement.getBoundingClientRect();
+    return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+  };
+  const showMeasurement = () => {
+    const out = document.getElementById("measurement");
+    const rows = picked.map((p, i) => [i ? "B" : "A", p.file.map(number).join(" ") + (p.vertex !== null ? " (vertex)" : "")]);
+    if (picked.length === 2) {
+      const d = [0, 1, 2].map((k) => picked[1].file[k] - picked[0].file[k]);
+      api.measurement = { points: picked.map((p) => p.file), distance: Math.hypot(...d), delta: d };
+      rows.push(["distance", `${number(Math.hypot(...d))} ${unit}`],
+        ["dx dy dz", `${d.map(number).join(" ")} ${unit}`]);
+    }
+    fill("measurement", rows);
+    out.hidden = picked.length === 0;
+  };
+  const pick = (clientX, clientY) => {
+    const rect = renderer.domElement.getBoundingClientRect();
+    const ndc = new Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    const raycaster = new Raycaster();
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.intersectObject(mesh).find((h) => !sectionBox.checked || h.point.z <= section.constant);
+    if (!hit) return;
+    let vertex = null, best = 8;
+    for (const v of [hit.face.a, hit.face.b, hit.face.c]) {
+      const local = [0, 1, 2].map((k) => geometry.attributes.position.array[3 * v + k]);
+      const [x, y] = screenOf(local);
+      const away = Math.hypot(x - clientX, y - clientY);
+      if (away <= best) best = away, vertex = v;
+    }
+    const local = vertex !== null ? [0, 1, 2].map((k) => geometry.attributes.position.array[3 * vertex + k]) : hit.point.toArray();
+    const file = vertex !== null ? fileCoordinates(vertex) : local.map((x, k) => x + header.origin[k]);
+    if (picked.length === 2) {
+      picked = [];
+      for (const m of markers.splice(0)) scene.remove(m);
+      if (line) scene.remove(line), (line = null);
+    }
+    picked.push({ file, vertex, local });
+    const marker = new Mesh(markerGeometry, markerMaterial);
+    marker.position.set(...local);
+    marker.renderOrder = 2;
+    markers.push(marker);
+    scene.add(marker);
+    if (picked.length === 2) {
+      line = new Line(new BufferGeometry().setFromPoints(picked.map((p) => new Vector3(...p.local))), lineMaterial);
+      line.renderOrder = 1;
+      scene.add(line);
+    }
+    showMeasurement();
+    render();
+  };
+  let down = null;
+  renderer.domElement.addEventListener("pointerdown", (e) => { down = [e.clientX, e.clientY]; });
+  renderer.domElement.addEventListener("pointerup", (e) => {
+    if (measureBox.checked && down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) < 4) pick(e.clientX, e.clientY);
+    down = null;
+  });
+  measureBox.addEventListener("change", () => {
+    renderer.domElement.style.cursor = measureBox.checked ? "crosshair" : "";
+  });
+
+  window.addEventListener("resize", () => {
+    camera.aspect = window.innerWidth / window.innerHeight;
+    camera.updateProjectionMatrix();
+    renderer.setSize(window.innerWidth, window.innerHeight);
+    render();
+  });
+
+  Object.assign(api, {
+    triangles: header.triangles, vertices: header.vertices, header,
+    // Where a point in the file's coordinates is on the screen (CSS pixels).
+    screenOfFile: (p) => screenOf(p.map((x, k) => x - header.origin[k])),
+    vertexInFile: fileCoordinates,
+    setFlat, topView, obliqueView, measurement: null,
+    picked: () => picked.map((p) => p.file),
+    canvas: renderer.domElement,
+    ready: true,
+  });
+}
+
+main().catch((e) => {
+  api.error = String((e && e.stack) || e);
+  document.getElementById("name").textContent = `cannot show the mesh: ${e && e.message}`;
+});

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: Apache-2.0
+// Opens a lasmesh .html page from file:// in headless Chromium (puppeteer-core) with the network
+// cut, and checks what its reader would see: it opens without an error and without asking for
+// anything, shows the file's triangle count, draws the mesh, measures between two vertices
+// clicked on the screen to a millimetre of their distance in the file, and seen from above in
+// flat colours averages the mesh's own colours (its up-facing triangles' colours weighted by their
+// area in plan) to within 3/255.
+// Prints "ok - ..." or "not ok - ..." a check; exits 1 if any failed, 77 if it cannot run here.
+//
+// Usage: node html_page.js MODULES PAGE.html EXPECTED.json [--screenshot FILE.png] [--chromium PATH]
+// EXPECTED.json: {"triangles": N, "vertices": [[x, y, z], ...] (file coordinates),
+//                 "candidates": [vertex numbers to click, best first], "plan_colour": [r, g, b]}
+"use strict";
+const fs = require("fs");
+const path = require("path");
+
+const args = process.argv.slice(2);
+const modules = path.resolve(args[0] || "", "node_modules");
+const pageFile = path.resolve(args[1] || "");
+const expected = JSON.parse(fs.readFileSync(args[2], "utf8"));
+const option = (name, fallback) => (args.includes(name) ? args[args.indexOf(name) + 1] : fallback);
+const screenshot = option("--screenshot", null);
+const chromium = option("--chromium", "/usr/bin/chromium");
+if (!fs.existsSync(path.join(modules, "puppeteer-core")) || !fs.existsSync(chromium)) {
+  console.log(`html_page.js: skipped: needs puppeteer-core in ${modules} and Chromium at ${chromium}`);
+  process.exit(77);
+}
+const puppeteer = require(path.join(modules, "puppeteer-core"));
+
+let failures = 0;
+function check(what, passed, detail) {
+  console.log(`${passed ? "ok" : "not ok"} - ${what}${passed || detail === undefined ? "" : `: ${detail}`}`);
+  if (!passed) failures++;
+}
+
+// The share of the canvas that is not the background, and the mean colour of that share.
+function frame() {
+  const canvas = window.lasmesh.canvas;
+  const copy = document.createElement("canvas");
+  copy.width = canvas.width; copy.height = canvas.height;
+  const context = copy.getContext("2d");
+  context.drawImage(canvas, 0, 0);
+  const pixels = context.getImageData(0, 0, copy.width, copy.height).data;
+  const background = [0xdd, 0xe4, 0xea];
+  let covered = 0;
+  const sum = [0, 0, 0];
+  for (let i = 0; i < pixels.length; i += 4) {
+    const d = Math.abs(pixels[i] - background[0]) + Math.abs(pixels[i + 1] - background[1]) + Math.abs(pixels[i + 2] - background[2]);
+    if (d <= 6) continue;
+    covered++;
+    for (let k = 0; k < 3; k++) sum[k] += pixels[i + k];
+  }
+  return { covered: covered / (pixels.length / 4), mean: sum.map((s) => s / Math.max(covered, 1)) };
+}
+
+(async () => {
+  const profile = fs.mkdtempSync(path.join(require("os").tmpdir(), "lasmesh-chromium-"));
+  const browser = await puppeteer.launch({
+    executablePath: chromium, headless: true, userDataDir: profile,
+    args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
+      "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-quic",
+      "--disable-dev-shm-usage"],
+  });
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1200, height: 800 });
+    const asked = [], problems = [];
+    await page.setRequestInterception(true);
+    page.on("request", (r) => {
+      const url = r.url();
+      if (url === `file://${pageFile}` || url.startsWith("data:") || url.startsWith("blob:")) return r.continue();
+      asked.push(url);
+      r.abort();
+    });
+    page.on("pageerror", (e) => problems.push(String(e)));
+    await page.setOfflineMode(true);
+    await page.goto(`file://${pageFile}`);
+    await page.waitForFunction(() => window.lasmesh && (window.lasmesh.ready || window.lasmesh.error), { timeout: 120000 });
+    const state = await page.evaluate(() => ({ error: window.lasmesh.error, triangles: window.lasmesh.triangles,
+      shown: document.getElementById("triangles").textContent }));
+    check("opens from file:// offline without an error", !state.error && problems.length === 0, state.error || problems[0]);
+    check("asks for nothing outside the page", asked.length === 0, asked.slice(0, 3).join(" "));
+    if (state.error) return;
+    check(`shows the file's ${expected.triangles} triangles`, state.triangles === expected.triangles &&
+      state.shown === String(expected.triangles), `${state.triangles}, shown ${state.shown}`);
+    const drawn = await page.evaluate(frame);
+    check(`draws the mesh (${(100 * drawn.covered).toFixed(1)}% of the frame)`, drawn.covered > 0.05, drawn.covered);
+
+    // Measuring: two far-apart vertices clicked where they are on the screen.
+    await page.click("#measure");
+    const panel = await page.evaluate(() => document.getElementById("panel").getBoundingClientRect().toJSON());
+    const onScreen = [];
+    for (const v of expected.candidates) {
+      const [x, y] = await page.evaluate((p) => window.lasmesh.screenOfFile(p), expected.vertices[v]);
+      const underPanel = x < panel.right + 4 && y < panel.bottom + 4;
+      if (x > 4 && y > 4 && x < 1196 && y < 796 && !underPanel) onScreen.push({ v, x, y });
+    }
+    // A click on a vertex seen edge-on may miss the surface: the next candidate then.
+    const clickOne = async (choices) => {
+      for (const c of choices) {
+        const before = await page.evaluate(() => window.lasmesh.picked().length);
+        await page.mouse.click(Math.round(c.x), Math.round(c.y));
+        if ((await page.evaluate(() => window.lasmesh.picked().length)) > before) return c;
+      }
+      return null;
+    };
+    const a = await clickOne(onScreen);
+    const far = a ? onScreen.filter((c) => c !== a).sort((p, q) => Math.hypot(q.x - a.x, q.y - a.y) - Math.hypot(p.x - a.x, p.y - a.y)) : [];
+    const b = await clickOne(far);
+    if (!a || !b) return check("two vertices to measure between are on the screen", false, onScreen.length);
+    const measured = await page.evaluate(() => window.lasmesh.measurement);
+    check("measures after two clicks", measured && measured.points.length === 2, JSON.stringify(measured));
+    if (measured) {
+      const nearest = (p) => {
+        let best = Infinity, at = -1;
+        expected.vertices.forEach((q, i) => {
+          const d = Math.hypot(q[0] - p[0], q[1] - p[1], q[2] - p[2]);
+          if (d < best) best = d, at = i;
+        });
+        return { at, d: best };
+      };
+      const [na, nb] = measured.points.map(nearest);
+      check(`both points are vertices of the file (${(1000 * Math.max(na.d, nb.d)).toFixed(3)} mm away)`, Math.max(na.d, nb.d) < 0.0005,
+        `${na.d} ${nb.d}`);
+      const [va, vb] = [expected.vertices[na.at], expected.vertices[nb.at]];
+      const truth = Math.hypot(va[0] - vb[0], va[1] - vb[1], va[2] - vb[2]);
+      check(`the distance is theirs to 1 mm (${measured.distance.toFixed(4)} against ${truth.toFixed(4)})`,
+        Math.abs(measured.distance - truth) < 0.001 && truth > 1, measured.distance - truth);
+      const text = await page.evaluate(() => document.getElementById("measurement").textContent);
+      check("and shows it", text.includes(measured.distance.toFixed(3)), text);
+    }
+    if (screenshot) await page.screenshot({ path: screenshot }); // with the measurement
+
+    // Colours: from above, flat.
+    await page.click("#measure");
+    await page.evaluate(() => { window.lasmesh.setFlat(true); window.lasmesh.topView(); });
+    const plan = await page.evaluate(frame);
+    const apart = plan.mean.map((m, k) => Math.abs(m - expected.plan_colour[k]));
+    check(`from above, in flat colours, the mesh's colours (mean ${plan.mean.map((m) => m.toFixed(1)).join(" ")} against ` +
+      `${expected.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...apart) <= 3, apart);
+  } finally {
+    await browser.close();
+    fs.rmSync(profile, { recursive: true, force: true });
+  }
+  process.exit(failures > 0 ? 1 : 0);
+})().catch((e) => {
+  console.log(`not ok - html_page.js: ${(e && e.stack) || e}`);
+  process.exit(1);
+});
