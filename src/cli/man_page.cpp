@@ -52,7 +52,7 @@ std::string man_page(const CLI::App& app, const std::string& version) {
     out << ".TH LASMESH 1 \"\" \"lasmesh " << roff(version) << "\" \"User Commands\"\n"
         << ".SH NAME\nlasmesh \\- LAS and LAZ point clouds to small coloured triangle meshes\n"
         << ".SH SYNOPSIS\n.B lasmesh\n.I INPUT...\n.B \\-o\n.I "
-           "OUT.ply|OUT.drc|OUT.glb|SITE/TILESET.json\n[\\fIOPTIONS\\fR]\n.br\n";
+           "OUT.ply|OUT.drc|OUT.glb|OUT.png|OUT.html|SITE/TILESET.json\n[\\fIOPTIONS\\fR]\n.br\n";
     for (const CLI::App* command : app.get_subcommands({}))
         out << ".B lasmesh " << roff(command->get_name()) << "\n[\\fIOPTIONS\\fR] ...\n.br\n";
     out << ".SH DESCRIPTION\n"
