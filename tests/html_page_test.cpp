@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The .html page's mesh: decoded with meshoptimizer's own decoders it gives back every triangle
-// (same vertices, same winding), every colour, the positions to the page's step and the normals to
-// a 127th; the facts leave out what changes from run to run; the page holds the compressed data.
+// (same vertices, same winding), every colour, heat-map colour and distance, the positions to the
+// page's step and the normals to a 127th; the facts leave out what changes from run to run; the
+// page holds the compressed data.
 #include "io/html_writer.hpp"
 #include "lasmesh/error.hpp"
 #include "test_support.hpp"
@@ -76,6 +77,11 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
     options.name = "sheet";
     options.facts_json = R"({"device":"cpu","points_read":5,"outputs":[],"seconds":{"total":1},)"
                          R"("peak_rss_bytes":7,"simplify":{"error":0.125,"seconds":0.5}})";
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) { // a heat map: colours and distances of their own
+        options.heat_colors.push_back({static_cast<std::uint8_t>(v % 251), static_cast<std::uint8_t>(v / 7 % 256), 9});
+        options.heat_distance.push_back(0.001 * static_cast<double>(v));
+    }
+    options.heat_scale = 0.5;
     const std::string data = encode_html_mesh(mesh, options);
     REQUIRE(data.substr(0, 4) == "LMSH");
     CHECK(u32_at(data, 4) == 1);
@@ -102,6 +108,8 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
     std::vector<std::array<std::uint8_t, 4>> colors(vertices);
     std::vector<std::array<std::int8_t, 4>> normals(vertices);
     std::vector<unsigned int> indices(3 * triangles);
+    std::vector<std::array<std::uint8_t, 4>> heat_colors(vertices);
+    std::vector<float> heat_distance(vertices);
     const auto decode_vertices = [&](void* out, std::size_t size, const std::string& bytes) {
         return meshopt_decodeVertexBuffer(out, vertices, size, reinterpret_cast<const unsigned char*>(bytes.data()),
                                           bytes.size());
@@ -109,6 +117,9 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
     REQUIRE(decode_vertices(positions.data(), 12, buffer("positions")) == 0);
     REQUIRE(decode_vertices(colors.data(), 4, buffer("colors")) == 0);
     REQUIRE(decode_vertices(normals.data(), 4, buffer("normals")) == 0);
+    REQUIRE(decode_vertices(heat_colors.data(), 4, buffer("heat_colors")) == 0);
+    REQUIRE(decode_vertices(heat_distance.data(), 4, buffer("heat_distance")) == 0);
+    CHECK(header["heat_scale"] == 0.5);
     const std::string index_bytes = buffer("indices");
     REQUIRE(meshopt_decodeIndexBuffer(indices.data(), indices.size(), 4,
                                       reinterpret_cast<const unsigned char*>(index_bytes.data()),
@@ -131,9 +142,11 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
         for (int a = 0; a < 3; ++a) {
             CHECK(std::abs(c[a] * step - mesh.positions[o][a]) <= step / 2 * (1 + 1e-9));
             CHECK(colors[v][a] == mesh.colors[o][a]);
+            CHECK(heat_colors[v][a] == options.heat_colors[o][a]);
             farthest_normal = std::max(farthest_normal, std::abs(normals[v][a] / 127.0 - mesh.normals[o][a]));
         }
         CHECK(colors[v][3] == 255);
+        CHECK(heat_distance[v] == static_cast<float>(options.heat_distance[o]));
     }
     CHECK(seen.size() == vertices);
     CHECK(seen.count(mesh.positions.size() - 1) == 0);

@@ -4,6 +4,7 @@
 #include "option_parsing.hpp"
 #include "progress.hpp"
 
+#include "io/html_writer.hpp"
 #include "io/json.hpp"
 #include "io/output_file.hpp"
 #include "io/ply_reader.hpp"
@@ -73,7 +74,9 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("--cell-size", o.cell_size, "Grid cell edge in file units (default: from the mesh file)")
         ->type_name("LENGTH")
         ->check(positive_number());
-    c->add_option("--heatmap", o.heatmap, "Also write the mesh as PLY coloured by each vertex's distance to the cloud")
+    c->add_option("--heatmap", o.heatmap,
+                  "Also write the mesh coloured by each vertex's distance to the cloud: FILE.ply, or FILE.html (a "
+                  "page for a web browser that shows the mesh's colours or the distances, and measures)")
         ->type_name("FILE.ply");
     c->add_option("--heatmap-scale", o.heatmap_scale,
                   "Distance shown red in the heat map (default: 2 cells, or the p99)")
@@ -82,7 +85,8 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_flag("--json", o.json, "One JSON object instead of text");
     c->footer(
         "Examples:\n  lasmesh compare deck.ply deck.las\n  lasmesh compare deck.drc deck.las --json --samples 1000000\n"
-        "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply");
+        "  lasmesh compare deck.ply deck.las --heatmap deck-distance.ply\n"
+        "  lasmesh compare deck.ply deck.las --heatmap deck-distance.html");
     return c;
 }
 
@@ -157,10 +161,30 @@ void run_compare(const CompareCommandOptions& o, std::ostream& out, std::ostream
         const double scale = o.heatmap_scale > 0 ? o.heatmap_scale
                              : r.cell_size > 0   ? 2 * r.cell_size
                                                  : summarize(sorted, 0).p99;
-        mesh.colors.resize(mesh.positions.size());
-        for (std::size_t v = 0; v < mesh.positions.size(); ++v)
-            mesh.colors[v] = heat_color(r.vertex_distance[v], scale);
-        write_ply(mesh, o.heatmap, false);
+        std::vector<std::array<std::uint8_t, 3>> heat(mesh.positions.size());
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v) heat[v] = heat_color(r.vertex_distance[v], scale);
+        if (format_from_extension(o.heatmap) == MeshFormat::html) { // the mesh's own colours stay, the heat beside
+            HtmlOptions page;
+            page.name = std::filesystem::path(o.mesh).stem().string();
+            const std::string unit = !r.cloud_transformed.empty() ? crs_from_text(mesh.crs).unit
+                                     : crs && crs->identified()   ? crs->unit
+                                                                  : std::string();
+            std::string summary; // "WGS 84 / UTM zone 31N (EPSG:32631)"
+            if (!mesh.crs.empty()) {
+                const CrsInfo info = crs_from_text(mesh.crs);
+                summary = info.name + (info.code.empty() ? "" : " (" + info.code + ")");
+            }
+            page.facts_json = json_line({{"crs", {{"summary", summary}, {"unit", unit}}}});
+            page.heat_colors = heat;
+            page.heat_distance = r.vertex_distance;
+            page.heat_scale = scale;
+            OutputFile file(o.heatmap);
+            file.write(encode_html(mesh, page));
+            file.commit();
+        } else {
+            mesh.colors = heat;
+            write_ply(mesh, o.heatmap, false);
+        }
         log << "heat map       " << o.heatmap << ": blue 0, cyan " << four_digits(scale / 4) << ", green "
             << four_digits(scale / 2) << ", yellow " << four_digits(3 * scale / 4) << ", red " << four_digits(scale)
             << " and beyond (distance from each vertex to the nearest point)\n";

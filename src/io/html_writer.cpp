@@ -81,12 +81,23 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
     std::vector<std::array<std::int32_t, 3>> positions(vertices);
     std::vector<std::array<std::uint8_t, 4>> colors(mesh.colors.empty() ? 0 : vertices);
     std::vector<std::array<std::int8_t, 4>> normals(mesh.normals.empty() ? 0 : vertices);
+    const bool heat = !options.heat_colors.empty();
+    if (heat &&
+        (options.heat_colors.size() != mesh.positions.size() || options.heat_distance.size() != mesh.positions.size()))
+        throw Error(ErrorKind::output, "the heat map does not have one colour and one distance per vertex");
+    std::vector<std::array<std::uint8_t, 4>> heat_colors(heat ? vertices : 0);
+    std::vector<float> heat_distance(heat ? vertices : 0);
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         const unsigned int to = remap[v];
         if (to == ~0u) continue; // used by no triangle
         for (int a = 0; a < 3; ++a)
             positions[to][a] = static_cast<std::int32_t>(std::lround(mesh.positions[v][a] / step));
         if (!colors.empty()) colors[to] = {mesh.colors[v][0], mesh.colors[v][1], mesh.colors[v][2], 255};
+        if (heat) {
+            const auto& c = options.heat_colors[v];
+            heat_colors[to] = {c[0], c[1], c[2], 255};
+            heat_distance[to] = static_cast<float>(options.heat_distance[v]);
+        }
         if (!normals.empty())
             for (int a = 0; a < 3; ++a)
                 normals[to][a] =
@@ -103,6 +114,10 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
     add("positions", encode_vertices(positions));
     if (!colors.empty()) add("colors", encode_vertices(colors));
     if (!normals.empty()) add("normals", encode_vertices(normals));
+    if (heat) {
+        add("heat_colors", encode_vertices(heat_colors));
+        add("heat_distance", encode_vertices(heat_distance));
+    }
     std::string encoded_indices(meshopt_encodeIndexBufferBound(index_count, vertices), '\0');
     encoded_indices.resize(meshopt_encodeIndexBuffer(reinterpret_cast<unsigned char*>(encoded_indices.data()),
                                                      encoded_indices.size(), indices.data(), index_count));
@@ -116,6 +131,7 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
                    {"cell_size", mesh.cell_size},
                    {"crs", mesh.crs},
                    {"buffers", layout}};
+    if (heat) header["heat_scale"] = options.heat_scale;
     Json facts = options.facts_json.empty() ? Json() : Json::parse(options.facts_json);
     if (facts.is_object()) { // what changes from run to run would change the page's bytes
         for (const char* key : {"device", "outputs", "seconds", "peak_rss_bytes"}) facts.erase(key);

@@ -10,7 +10,9 @@
 //   a thousandth of a cell and 0.0001 units (a power of two, so that step times integer is exact;
 //   Draco's decoder would add 600 kB to the page, meshoptimizer's 30 kB), sRGB colours as
 //   bytes, normals as signed bytes, triangles reordered for the GPU's vertex cache;
-// - the run's facts (the RunReport as JSON, when build_mesh writes it), shown in a panel.
+// - the run's facts (the RunReport as JSON, when build_mesh writes it), shown in a panel;
+// - with a heat map (written by lasmesh compare), a second colour per vertex and its
+//   distance to the points, which the page shows on request.
 // Layout of the mesh data (before zlib): "LMSH", u32 version (1), u32 length of a JSON header,
 // the header (counts, origin, step, buffers' offsets and lengths, facts), then the buffers, each
 // starting at a multiple of 4.
@@ -18,8 +20,11 @@
 
 #include "lasmesh/mesh.hpp"
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace lasmesh {
 
@@ -28,6 +33,11 @@ struct HtmlOptions {
     // The run's RunReport as JSON, or empty; what differs from run to run (device, timings,
     // memory, outputs) is left out, so that the same run writes the same bytes.
     std::string facts_json;
+    // A heat map the page can show instead of the colours (lasmesh compare): per vertex its
+    // colour on the ramp and its distance to the points, and the distance shown red. Empty: none.
+    std::vector<std::array<std::uint8_t, 3>> heat_colors;
+    std::vector<double> heat_distance;
+    double heat_scale = 0;
 };
 
 // The page's bytes. Throws Error (output) when the mesh has no triangles, or when this lasmesh

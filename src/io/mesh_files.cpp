@@ -51,9 +51,12 @@ void write_mesh_into(const Mesh& mesh, const OutputRequest& output, MeshFormat f
             bytes = encode_draco(mesh, output.draco);
         else if (format == MeshFormat::glb)
             bytes = encode_glb(mesh, {output.glb_compression, output.glb_origin, name, output.draco});
-        else if (format == MeshFormat::html)
-            bytes = encode_html(mesh, {name, facts_json});
-        else
+        else if (format == MeshFormat::html) {
+            HtmlOptions page;
+            page.name = name;
+            page.facts_json = facts_json;
+            bytes = encode_html(mesh, page);
+        } else
             bytes = encode_png(render_preview(mesh));
     } catch (const Error& e) {
         throw Error(e.kind(), output.path + ": " + e.what());

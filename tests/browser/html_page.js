@@ -4,10 +4,11 @@
 // anything, shows the file's triangle count, draws the mesh, measures between two vertices
 // clicked on the screen to a millimetre of their distance in the file, and seen from above in
 // flat colours averages the mesh's own colours (its up-facing triangles' colours weighted by their
-// area in plan) to within 3/255.
+// area in plan) to within 3/255; with a heat map, the heat-map PLY's colours the same way (5/255).
 // Prints "ok - ..." or "not ok - ..." a check; exits 1 if any failed, 77 if it cannot run here.
 //
-// Usage: node html_page.js MODULES PAGE.html EXPECTED.json [--screenshot FILE.png] [--chromium PATH]
+// Usage: node html_page.js MODULES PAGE.html EXPECTED.json [--screenshot FILE.png] [--heat HEAT.json]
+//          [--chromium PATH]
 // EXPECTED.json: {"triangles": N, "vertices": [[x, y, z], ...] (file coordinates),
 //                 "candidates": [vertex numbers to click, best first], "plan_colour": [r, g, b]}
 "use strict";
@@ -20,6 +21,8 @@ const pageFile = path.resolve(args[1] || "");
 const expected = JSON.parse(fs.readFileSync(args[2], "utf8"));
 const option = (name, fallback) => (args.includes(name) ? args[args.indexOf(name) + 1] : fallback);
 const screenshot = option("--screenshot", null);
+// With a heat map: the plan colour of the heat-map PLY of the same comparison (ply_facts.py).
+const heat = option("--heat", null) && JSON.parse(fs.readFileSync(option("--heat", null), "utf8"));
 const chromium = option("--chromium", "/usr/bin/chromium");
 if (!fs.existsSync(path.join(modules, "puppeteer-core")) || !fs.existsSync(chromium)) {
   console.log(`html_page.js: skipped: needs puppeteer-core in ${modules} and Chromium at ${chromium}`);
@@ -138,6 +141,20 @@ function frame() {
     const apart = plan.mean.map((m, k) => Math.abs(m - expected.plan_colour[k]));
     check(`from above, in flat colours, the mesh's colours (mean ${plan.mean.map((m) => m.toFixed(1)).join(" ")} against ` +
       `${expected.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...apart) <= 3, apart);
+    if (heat) {
+      const shown = await page.evaluate(() => !document.getElementById("heat-choice").hidden);
+      check("offers the heat map", shown);
+      await page.click("#heat");
+      const legend = await page.evaluate(() => !document.getElementById("heat-legend").hidden);
+      check("shows its legend", legend);
+      // Within 5/255, not 3: the ramp changes fast between neighbouring vertices, so the pixels
+      // where the mesh's edge meets the background, and the parts seen at a slant, weigh more than
+      // in the mesh's own colours. Blending the ramp in linear light instead misses by 17/255.
+      const hot = await page.evaluate(frame);
+      const off = hot.mean.map((m, k) => Math.abs(m - heat.plan_colour[k]));
+      check(`the heat map, from above, in flat colours: the heat-map PLY's colours (mean ${hot.mean.map((m) => m.toFixed(1)).join(" ")} ` +
+        `against ${heat.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...off) <= 5, off);
+    }
   } finally {
     await browser.close();
     fs.rmSync(profile, { recursive: true, force: true });

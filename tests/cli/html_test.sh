@@ -31,4 +31,15 @@ cat "$dir/page.txt"
 check "in Chromium: every check passes" test "$rc" -eq 0
 check "in Chromium: the measurement was checked" grep -q "^ok - the distance is theirs to 1 mm" "$dir/page.txt"
 
+# A heat map as a page (lasmesh compare): the mesh's colours, and on request the distances, whose
+# colours are those of the heat-map PLY of the same comparison.
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/heat.ply" --heatmap-scale 0.3 > /dev/null 2>&1
+"$lasmesh" compare "$dir/deck.ply" "$dir/deck.las" --heatmap "$dir/heat.html" --heatmap-scale 0.3 > "$dir/compare.txt" 2>&1
+check "compare writes the heat map page" has "$dir/compare.txt" "heat.html"
+python3 "$here/../browser/ply_facts.py" "$dir/heat.ply" > "$dir/heat.json"
+node "$here/../browser/html_page.js" "$packages" "$dir/heat.html" "$dir/expected.json" --heat "$dir/heat.json" > "$dir/heat.txt"; rc=$?
+cat "$dir/heat.txt"
+check "heat map page in Chromium: every check passes" test "$rc" -eq 0
+check "heat map page: the heat colours were checked" grep -q "^ok - the heat map, from above" "$dir/heat.txt"
+
 finish html

@@ -2,12 +2,13 @@
 // The viewer inside lasmesh's .html pages (src/io/html_writer.hpp): it decodes the mesh the page
 // holds and shows it with three.js, lit or in its flat colours, with orbit, pan and zoom, a
 // measure tool (two clicks on the surface: the distance and dx, dy, dz in the file's units,
-// snapped to a vertex when one is within a few pixels), a horizontal section, and the run's facts.
+// snapped to a vertex when one is within a few pixels), a horizontal section, the run's facts, and
+// with a heat map (lasmesh compare) each vertex's distance to the points on request.
 // Bundled with three.js by esbuild when lasmesh is built (tools/bundle_viewer.sh).
 import {
   BufferAttribute, BufferGeometry, Color, DirectionalLight, DoubleSide, HemisphereLight, Line,
-  LineBasicMaterial, Mesh, MeshBasicMaterial, MeshStandardMaterial, PerspectiveCamera, Plane,
-  Raycaster, Scene, SphereGeometry, Vector2, Vector3, WebGLRenderer,
+  LineBasicMaterial, LinearSRGBColorSpace, Mesh, MeshBasicMaterial, MeshStandardMaterial, PerspectiveCamera,
+  Plane, Raycaster, Scene, SphereGeometry, SRGBColorSpace, Vector2, Vector3, WebGLRenderer,
 } from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { MeshoptDecoder } from "three/addons/libs/meshopt_decoder.module.js";
@@ -49,9 +50,11 @@ async function readMesh() {
   const quantized = decode("positions", 12, Int32Array); // x, y, z
   const colors = decode("colors", 4, Uint8Array); // r, g, b, 255
   const normals = decode("normals", 4, Int8Array); // x, y, z, 0
+  const heatColors = decode("heat_colors", 4, Uint8Array); // r, g, b, 255 on the heat ramp
+  const heatDistance = decode("heat_distance", 4, Float32Array); // to the nearest point
   const indices = new Uint32Array(3 * header.triangles);
   MeshoptDecoder.decodeIndexBuffer(new Uint8Array(indices.buffer), indices.length, 4, part("indices"));
-  return { header, quantized, colors, normals, indices };
+  return { header, quantized, colors, normals, indices, heatColors, heatDistance };
 }
 
 // sRGB bytes to linear values (IEC 61966-2-1), as three.js expects vertex colours.
@@ -60,6 +63,14 @@ const linear = new Float32Array(256).map((_, i) => {
   return c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4);
 });
 
+// sRGB bytes (r, g, b, a a vertex) as three.js's linear colour attribute, or (`asIs`) the sRGB
+// values themselves.
+function colorAttribute(bytes, n, asIs = false) {
+  const c = new Float32Array(3 * n);
+  for (let v = 0; v < n; v++) for (let k = 0; k < 3; k++) c[3 * v + k] = asIs ? bytes[4 * v + k] / 255 : linear[bytes[4 * v + k]];
+  return new BufferAttribute(c, 3);
+}
+
 function geometryOf({ header, quantized, colors, normals, indices }) {
   const n = header.vertices, step = header.step;
   const positions = new Float32Array(3 * n);
@@ -67,11 +78,7 @@ function geometryOf({ header, quantized, colors, normals, indices }) {
   const geometry = new BufferGeometry();
   geometry.setAttribute("position", new BufferAttribute(positions, 3));
   geometry.setIndex(new BufferAttribute(indices, 1));
-  if (colors) {
-    const c = new Float32Array(3 * n);
-    for (let v = 0; v < n; v++) for (let k = 0; k < 3; k++) c[3 * v + k] = linear[colors[4 * v + k]];
-    geometry.setAttribute("color", new BufferAttribute(c, 3));
-  }
+  if (colors) geometry.setAttribute("color", colorAttribute(colors, n));
   if (normals) {
     const m = new Float32Array(3 * n);
     for (let v = 0; v < n; v++) for (let k = 0; k < 3; k++) m[3 * v + k] = normals[4 * v + k] / 127;
@@ -85,6 +92,7 @@ function geometryOf({ header, quantized, colors, normals, indices }) {
 }
 
 const unitOf = (facts) => {
+  if (facts && facts.crs && facts.crs.unit) return facts.crs.unit;
   const summary = facts && facts.crs && facts.crs.summary;
   const match = summary && /, in ([^,]+)$/.exec(summary);
   return match ? match[1] : "units";
@@ -133,7 +141,8 @@ async function main() {
   const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio);
   renderer.setSize(window.innerWidth, window.innerHeight);
-  renderer.setClearColor(new Color("#dde4ea"));
+  const background = new Color("#dde4ea");
+  renderer.setClearColor(background);
   renderer.localClippingEnabled = true;
   document.body.appendChild(renderer.domElement);
 
@@ -190,6 +199,37 @@ async function main() {
   sectionBox.addEventListener("change", applySection);
   sectionHeight.addEventListener("input", applySection);
 
+  // The heat map: the vertices coloured by their distance to the points instead. Its colours are
+  // blended between vertices as sRGB values, as the heat-map PLY shows in other viewers and as the
+  // legend's ramp is drawn: the frame is then written without sRGB encoding (blending a rainbow
+  // in linear light would brighten it between the vertices).
+  const own = geometry.getAttribute("color");
+  const heat = decoded.heatColors ? colorAttribute(decoded.heatColors, header.vertices, true) : null;
+  const setHeat = (on) => {
+    if (!heat) return;
+    renderer.outputColorSpace = on ? LinearSRGBColorSpace : SRGBColorSpace;
+    // The same background either way: without encoding, its sRGB values are given as they are.
+    renderer.setClearColor(on ? new Color().setRGB(0xdd / 255, 0xe4 / 255, 0xea / 255, LinearSRGBColorSpace) : background);
+    if (on || own) geometry.setAttribute("color", on ? heat : own);
+    else geometry.deleteAttribute("color");
+    lit.vertexColors = flat.vertexColors = on || hasColors;
+    lit.color.set(on || hasColors ? 0xffffff : 0xb4b4b4);
+    flat.color.set(on || hasColors ? 0xffffff : 0xb4b4b4);
+    lit.needsUpdate = flat.needsUpdate = true;
+    document.getElementById("heat").checked = on;
+    document.getElementById("heat-legend").hidden = !on;
+    render();
+  };
+  if (heat) {
+    const s = header.heat_scale;
+    document.getElementById("heat-choice").hidden = false;
+    const legend = document.getElementById("heat-legend"), ramp = document.createElement("span");
+    ramp.className = "ramp";
+    legend.append("0 ", ramp, ` ${number(s)} ${unit} and beyond`, document.createElement("br"),
+      `blue 0, cyan ${number(s / 4)}, green ${number(s / 2)}, yellow ${number((3 * s) / 4)}, red ${number(s)}`);
+    document.getElementById("heat").addEventListener("change", (e) => setHeat(e.target.checked));
+  }
+
   const setFlat = (on) => {
     mesh.material = on ? flat : lit;
     document.getElementById("flat").checked = on;
@@ -216,7 +256,8 @@ async function main() {
   };
   const showMeasurement = () => {
     const out = document.getElementById("measurement");
-    const rows = picked.map((p, i) => [i ? "B" : "A", p.file.map(number).join(" ") + (p.vertex !== null ? " (vertex)" : "")]);
+    const rows = picked.map((p, i) => [i ? "B" : "A", p.file.map(number).join(" ") + (p.vertex === null ? ""
+      : decoded.heatDistance ? ` (vertex, ${number(decoded.heatDistance[p.vertex])} ${unit} from the points)` : " (vertex)")]);
     if (picked.length === 2) {
       const d = [0, 1, 2].map((k) => picked[1].file[k] - picked[0].file[k]);
       api.measurement = { points: picked.map((p) => p.file), distance: Math.hypot(...d), delta: d };
@@ -283,7 +324,7 @@ async function main() {
     // Where a point in the file's coordinates is on the screen (CSS pixels).
     screenOfFile: (p) => screenOf(p.map((x, k) => x - header.origin[k])),
     vertexInFile: fileCoordinates,
-    setFlat, topView, obliqueView, measurement: null,
+    setFlat, setHeat, topView, obliqueView, measurement: null,
     picked: () => picked.map((p) => p.file),
     canvas: renderer.domElement,
     ready: true,
