@@ -77,7 +77,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
     c->add_option("--heatmap", o.heatmap,
                   "Also write the mesh coloured by each vertex's distance to the cloud: FILE.ply, or FILE.html (a "
                   "page for a web browser that shows the mesh's colours or the distances, and measures)")
-        ->type_name("FILE.ply");
+        ->type_name("FILE.ply|FILE.html");
     c->add_option("--heatmap-scale", o.heatmap_scale,
                   "Distance shown red in the heat map (default: 2 cells, or the p99)")
         ->type_name("LENGTH")
