@@ -22,6 +22,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// `input` meshed with a grid of `grid` cells along its longest side to the tileset `json`, the
+// mesh kept.
+BuildResult build_tileset(const std::string& input, const std::string& json, int grid) {
+    BuildOptions o;
+    o.grid = GridRequest::longest(grid);
+    OutputRequest tileset;
+    tileset.path = json;
+    o.outputs.push_back(tileset);
+    o.keep_mesh = true;
+    return build_mesh(input, o);
+}
+
 struct Site {
     test::TempDir dir;
     std::string input;
@@ -32,15 +44,7 @@ struct Site {
         layout.epsg = epsg;
         test::write_file(input, test::make_las(layout, lasgen::make_scene(scene), 200000, 5));
     }
-    BuildResult build(const std::string& json, int grid = 300) const {
-        BuildOptions o;
-        o.grid = GridRequest::longest(grid);
-        OutputRequest tileset;
-        tileset.path = json;
-        o.outputs.push_back(tileset);
-        o.keep_mesh = true;
-        return build_mesh(input, o);
-    }
+    BuildResult build(const std::string& json, int grid = 300) const { return build_tileset(input, json, grid); }
 };
 
 Json read_json(const std::string& path) {
@@ -143,13 +147,7 @@ namespace {
 // all within a centimetre (a quarter of a degree for normals).
 void check_on_globe(const std::string& input, const std::string& crs, int grid, const test::TempDir& dir) {
     const std::string json_path = dir.file("site.json");
-    BuildOptions options;
-    options.grid = GridRequest::longest(grid);
-    OutputRequest output;
-    output.path = json_path;
-    options.outputs.push_back(output);
-    options.keep_mesh = true;
-    const BuildResult result = build_mesh(input, options);
+    const BuildResult result = build_tileset(input, json_path, grid);
     const Json tileset = read_json(json_path);
     REQUIRE(tileset["root"].contains("transform"));
     std::array<double, 16> m{};

@@ -14,6 +14,7 @@
 "use strict";
 const fs = require("fs");
 const path = require("path");
+const { puppeteerOr77, withChromium, checks } = require("./chromium.js");
 
 const args = process.argv.slice(2);
 const modules = path.resolve(args[0] || "", "node_modules");
@@ -24,47 +25,11 @@ const screenshot = option("--screenshot", null);
 // With a heat map: the plan colour of the heat-map PLY of the same comparison (ply_facts.py).
 const heat = option("--heat", null) && JSON.parse(fs.readFileSync(option("--heat", null), "utf8"));
 const chromium = option("--chromium", "/usr/bin/chromium");
-if (!fs.existsSync(path.join(modules, "puppeteer-core")) || !fs.existsSync(chromium)) {
-  console.log(`html_page.js: skipped: needs puppeteer-core in ${modules} and Chromium at ${chromium}`);
-  process.exit(77);
-}
-const puppeteer = require(path.join(modules, "puppeteer-core"));
-
-let failures = 0;
-function check(what, passed, detail) {
-  console.log(`${passed ? "ok" : "not ok"} - ${what}${passed || detail === undefined ? "" : `: ${detail}`}`);
-  if (!passed) failures++;
-}
-
-// The share of the canvas that is not the background, and the mean colour of that share.
-function frame() {
-  const canvas = window.lasmesh.canvas;
-  const copy = document.createElement("canvas");
-  copy.width = canvas.width; copy.height = canvas.height;
-  const context = copy.getContext("2d");
-  context.drawImage(canvas, 0, 0);
-  const pixels = context.getImageData(0, 0, copy.width, copy.height).data;
-  const background = [0xdd, 0xe4, 0xea];
-  let covered = 0;
-  const sum = [0, 0, 0];
-  for (let i = 0; i < pixels.length; i += 4) {
-    const d = Math.abs(pixels[i] - background[0]) + Math.abs(pixels[i + 1] - background[1]) + Math.abs(pixels[i + 2] - background[2]);
-    if (d <= 6) continue;
-    covered++;
-    for (let k = 0; k < 3; k++) sum[k] += pixels[i + k];
-  }
-  return { covered: covered / (pixels.length / 4), mean: sum.map((s) => s / Math.max(covered, 1)) };
-}
+const puppeteer = puppeteerOr77(modules, chromium, "html_page.js");
+const tally = checks(), check = tally.check;
 
 (async () => {
-  const profile = fs.mkdtempSync(path.join(require("os").tmpdir(), "lasmesh-chromium-"));
-  const browser = await puppeteer.launch({
-    executablePath: chromium, headless: true, userDataDir: profile,
-    args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
-      "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-quic",
-      "--disable-dev-shm-usage"],
-  });
-  try {
+  await withChromium(puppeteer, chromium, async (browser) => {
     const page = await browser.newPage();
     await page.setViewport({ width: 1200, height: 800 });
     const asked = [], problems = [];
@@ -86,7 +51,10 @@ function frame() {
     if (state.error) return;
     check(`shows the file's ${expected.triangles} triangles`, state.triangles === expected.triangles &&
       state.shown === String(expected.triangles), `${state.triangles}, shown ${state.shown}`);
-    const drawn = await page.evaluate(frame);
+    // What is drawn: the share of the frame off the page's background, and its mean colour.
+    await page.addScriptTag({ content: fs.readFileSync(path.join(__dirname, "frame_pixels.js"), "utf8") });
+    const frame = () => page.evaluate(() => framePixels(window.lasmesh.canvas, "#dde4ea", 6));
+    const drawn = await frame();
     check(`draws the mesh (${(100 * drawn.covered).toFixed(1)}% of the frame)`, drawn.covered > 0.05, drawn.covered);
 
     // Measuring: two far-apart vertices clicked where they are on the screen.
@@ -137,7 +105,7 @@ function frame() {
     // Colours: from above, flat.
     await page.click("#measure");
     await page.evaluate(() => { window.lasmesh.setFlat(true); window.lasmesh.topView(); });
-    const plan = await page.evaluate(frame);
+    const plan = await frame();
     const apart = plan.mean.map((m, k) => Math.abs(m - expected.plan_colour[k]));
     check(`from above, in flat colours, the mesh's colours (mean ${plan.mean.map((m) => m.toFixed(1)).join(" ")} against ` +
       `${expected.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...apart) <= 3, apart);
@@ -150,16 +118,13 @@ function frame() {
       // Within 5/255, not 3: the ramp changes fast between neighbouring vertices, so the pixels
       // where the mesh's edge meets the background, and the parts seen at a slant, weigh more than
       // in the mesh's own colours. Blending the ramp in linear light instead misses by 17/255.
-      const hot = await page.evaluate(frame);
+      const hot = await frame();
       const off = hot.mean.map((m, k) => Math.abs(m - heat.plan_colour[k]));
       check(`the heat map, from above, in flat colours: the heat-map PLY's colours (mean ${hot.mean.map((m) => m.toFixed(1)).join(" ")} ` +
         `against ${heat.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...off) <= 5, off);
     }
-  } finally {
-    await browser.close();
-    fs.rmSync(profile, { recursive: true, force: true });
-  }
-  process.exit(failures > 0 ? 1 : 0);
+  });
+  process.exit(tally.failures > 0 ? 1 : 0);
 })().catch((e) => {
   console.log(`not ok - html_page.js: ${(e && e.stack) || e}`);
   process.exit(1);

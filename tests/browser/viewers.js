@@ -14,6 +14,7 @@
 const fs = require("fs");
 const http = require("http");
 const path = require("path");
+const { puppeteerOr77, withChromium, checks } = require("./chromium.js");
 
 const args = process.argv.slice(2);
 const modules = path.resolve(args[0] || "", "node_modules");
@@ -29,23 +30,14 @@ const screenshots = option("--screenshots", null);
 const [width, height] = option("--size", "1024x768").split("x").map(Number);
 const chromium = option("--chromium", "/usr/bin/chromium");
 
-for (const needed of ["puppeteer-core", "cesium", "three", "3d-tiles-renderer"]) {
+for (const needed of ["cesium", "three", "3d-tiles-renderer"]) {
   if (!fs.existsSync(path.join(modules, needed))) {
     console.log(`viewers.js: skipped: ${needed} is not installed in ${modules}`);
     process.exit(77);
   }
 }
-if (!fs.existsSync(chromium)) {
-  console.log(`viewers.js: skipped: no Chromium at ${chromium}`);
-  process.exit(77);
-}
-const puppeteer = require(path.join(modules, "puppeteer-core"));
-
-let failures = 0;
-function check(what, passed, detail) {
-  console.log(`${passed ? "ok" : "not ok"} - ${what}${passed || detail === undefined ? "" : `: ${detail}`}`);
-  if (!passed) failures++;
-}
+const puppeteer = puppeteerOr77(modules, chromium, "viewers.js");
+const tally = checks(), check = tally.check;
 
 // The tileset's tree: each content's URI, its parent's content URI (null at the root) and depth.
 const tileset = JSON.parse(fs.readFileSync(tilesetFile, "utf8"));
@@ -160,23 +152,14 @@ async function open(browser, viewer, base) {
 (async () => {
   await new Promise((r) => server.listen(0, "127.0.0.1", r));
   const base = `http://127.0.0.1:${server.address().port}`;
-  const profile = fs.mkdtempSync(path.join(require("os").tmpdir(), "lasmesh-chromium-"));
-  // Software WebGL (SwiftShader) so that it runs without a GPU; no background connections: the
-  // machine may have no network.
-  const browser = await puppeteer.launch({
-    executablePath: chromium, headless: true, userDataDir: profile,
-    args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
-      "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-quic",
-      "--disable-dev-shm-usage"],
-  });
   try {
-    for (const viewer of viewers) await open(browser, viewer, base);
+    await withChromium(puppeteer, chromium, async (browser) => {
+      for (const viewer of viewers) await open(browser, viewer, base);
+    });
   } finally {
-    await browser.close();
     server.close();
-    fs.rmSync(profile, { recursive: true, force: true });
   }
-  process.exit(failures > 0 ? 1 : 0);
+  process.exit(tally.failures > 0 ? 1 : 0);
 })().catch((e) => {
   console.log(`not ok - viewers.js: ${e && e.stack || e}`);
   process.exit(1);
