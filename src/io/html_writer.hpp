@@ -8,7 +8,7 @@
 // - the mesh, compressed by meshoptimizer's vertex and index codecs (Kapoulkine's, as glTF's
 //   EXT_meshopt_compression uses them), then zlib: positions as 32-bit integers in steps of at most
 //   a thousandth of a cell and 0.0001 units (a power of two, so that step times integer is exact;
-//   Draco's decoder would add 600 kB to the page, meshoptimizer's 30 kB), sRGB colours as
+//   three.js's Draco decoder would add 250 kB to the page, meshoptimizer's 29 kB), sRGB colours as
 //   bytes, normals as signed bytes, triangles reordered for the GPU's vertex cache;
 // - the run's facts (the RunReport as JSON, when build_mesh writes it), shown in a panel;
 // - with a heat map (written by lasmesh compare), a second colour per vertex and its
