@@ -36,6 +36,15 @@
 
 namespace lasmesh {
 
+// What reading leaves for meshing: the grid, and what the outputs need of the survey.
+struct Accumulation {
+    BuildOptions read_options; // the options it was read with (their read fields count)
+    CellGrid grid;
+    std::optional<CrsInfo> crs;
+    std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
+    std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
+};
+
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -183,10 +192,15 @@ bool finite_at_least_zero(double value) {
     return std::isfinite(value) && value >= 0;
 }
 
-// Every check on the options, before the input is opened: nobody should wait through a read to
-// learn that an output cannot be written or an option makes no sense. Returns each output's format.
-std::vector<MeshFormat> check_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
+// The checks on what reading takes: inputs, options that cannot work.
+void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
     if (inputs.empty()) usage_error("inputs", "no input given: nothing to mesh");
+    if (o.scan_bounds)
+        for (const std::string& input : inputs) check_rereadable(input);
+}
+
+// The checks on what meshing and writing take; returns each output's format.
+std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
     if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
     std::vector<MeshFormat> formats;
     for (const OutputRequest& output : o.outputs) formats.push_back(output_format(output));
@@ -201,8 +215,6 @@ std::vector<MeshFormat> check_options(const std::vector<std::string>& inputs, co
     } else {
         check_distinct_inputs(inputs, paths);
     }
-    if (o.scan_bounds)
-        for (const std::string& input : inputs) check_rereadable(input);
     if (o.surface == SurfaceKind::sheet && o.placement != VertexPlacement::surface)
         usage_error("placement",
                     "vertices on the iso level are for the closed surface only: the sheet places them on the points");
@@ -266,21 +278,19 @@ TilesetLattice tileset_lattice(const GridSpec& finest, std::size_t& levels) {
     return lattice;
 }
 
-} // namespace
-
-BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
-    return build_mesh(std::vector<std::string>{input}, o, observer);
+// A note for each tileset output that cannot be placed on the globe.
+void add_placement_notes(const std::vector<OutputRequest>& outputs, const std::optional<CrsInfo>& crs, RunReport& r) {
+    for (const OutputRequest& output : outputs)
+        if (output_format(output) == MeshFormat::tileset && !(crs && crs->identified()))
+            r.warnings.push_back(
+                "note: " + output.path + " is not placed on the globe: " +
+                (crs ? "its coordinate system is not identified" : "the input declares no coordinate system"));
 }
 
-BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOptions& o, BuildObserver* observer) {
-    BuildObserver silent;
-    BuildObserver& watch = observer ? *observer : silent;
-    const std::vector<MeshFormat> formats = check_options(inputs, o); // before reading
-    std::optional<tbb::global_control> thread_limit;
-    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
-
-    BuildResult result;
-    RunReport& r = result.report;
+// Reads the inputs and sums their points into `a.grid`; fills the read's fields of `r`, with
+// the outputs' placement notes when `note_outputs`.
+void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
+                       BuildObserver& watch, Accumulation& a, RunReport& r) {
     const auto start = std::chrono::steady_clock::now();
     AccumulateOptions accumulate;
     accumulate.grid = o.grid;
@@ -316,7 +326,8 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     ComputeDevice device(o.device);
     r.device = device.info().name;
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
-    CellGrid grid;
+    a.memory_in_use = accumulate.memory_in_use;
+    CellGrid& grid = a.grid;
     bool header_color = false;
     for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
         SurveyReader reader(survey, single.get());
@@ -357,7 +368,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds_since(start);
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
-    const std::uint64_t fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
+    a.fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
     r.occupied_cells = grid.occupied_cells();
     r.median_count = grid.median_count();
     r.occupied_bricks = grid.brick_keys.size();
@@ -372,20 +383,26 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
                              std::to_string(r.occupied_cells) + " occupied cells hold a median of " +
                              std::to_string(r.median_count) +
                              " points each; a finer grid, or bounds around each part of the data, resolves them");
-    for (std::size_t i = 0; i < formats.size(); ++i)
-        if (formats[i] == MeshFormat::tileset && !(survey.crs && survey.crs->identified()))
-            r.warnings.push_back(
-                "note: " + o.outputs[i].path + " is not placed on the globe: " +
-                (survey.crs ? "its coordinate system is not identified" : "the input declares no coordinate system"));
+    if (note_outputs) add_placement_notes(o.outputs, survey.crs, r); // said with the read's notes
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " + megabytes(r.pool_bytes) +
                  " of bricks in " + two_digits(r.read_accumulate) + " s");
 
+    a.crs = survey.crs;
+}
+
+// Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
+// `r` holds the read's fields, `seconds_before` the time the read took.
+BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
+                      const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
+                      double seconds_before) {
+    const auto mesh_start = std::chrono::steady_clock::now();
+    BuildResult result;
     watch.stage_started(BuildStage::extract, "extracting the surface");
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
     r.iso = o.iso ? *o.iso : automatic_iso(grid);
-    if (o.max_memory) check_extraction_memory(grid, r.iso, o, formats, r.input, accumulate.memory_in_use);
+    if (o.max_memory) check_extraction_memory(grid, r.iso, o, formats, r.input, a.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
     // A tileset's coarser levels, coarsest first: the grid's cells merged 2 x 2 x 2, exactly.
@@ -423,7 +440,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
                          " in " + two_digits(report.seconds) + " s");
         if (pieces) *pieces = removed;
         if (simplified) *simplified = report;
-        if (pieces && m.triangles.empty()) empty_mesh_error(r, fullest_cell, extracted);
+        if (pieces && m.triangles.empty()) empty_mesh_error(r, a.fullest_cell, extracted);
         if (!o.normals)
             m.normals.clear();
         else if (m.normals.empty()) {
@@ -474,7 +491,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
         if (formats[i] == MeshFormat::tileset) {
             TilesetContent content;
             content.glb = {output.glb_compression, GltfOrigin::extras, "tile", output.draco};
-            content.crs = survey.crs;
+            content.crs = a.crs;
             tiles = write_tileset(levels, lattice, content, *files.back());
             tileset_path = output.path;
             bytes = tiles->content_bytes;
@@ -489,7 +506,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
         watch.detail("wrote          " + output.path + " in " + two_digits(r.outputs.back().seconds) + " s");
     }
     r.write = seconds_since(write_start);
-    r.total = seconds_since(start);
+    r.total = seconds_before + seconds_since(mesh_start);
     r.peak_rss_bytes = peak_rss_bytes();
     if (!o.report.empty()) { // renamed with the meshes: the report of a run whose outputs exist
         files.push_back(std::make_unique<OutputFile>(o.report));
@@ -505,8 +522,70 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     }
     if (tiles) remove_earlier_tiles(tileset_path, tiles->folder);
     watch.stage_ended(BuildStage::write, r);
+    result.report = std::move(r);
     if (o.keep_mesh) result.mesh = std::move(mesh);
     return result;
+}
+
+// Whether two BuildOptions read the same: the fields accumulate_inputs takes.
+bool same_read_options(const BuildOptions& a, const BuildOptions& b) {
+    const auto bounds_key = [](const std::optional<Bounds>& x) {
+        return x ? std::make_tuple(true, x->min, x->max) : std::make_tuple(false, Vec3{}, Vec3{});
+    };
+    return a.grid.kind == b.grid.kind && a.grid.dims == b.grid.dims && a.grid.voxel == b.grid.voxel &&
+           bounds_key(a.bounds) == bounds_key(b.bounds) && a.scan_bounds == b.scan_bounds &&
+           a.skip_bad_inputs == b.skip_bad_inputs && a.crs == b.crs && a.device == b.device &&
+           a.slice_bytes == b.slice_bytes && a.max_memory == b.max_memory;
+}
+
+} // namespace
+
+BuildResult build_mesh(const std::string& input, const BuildOptions& o, BuildObserver* observer) {
+    return build_mesh(std::vector<std::string>{input}, o, observer);
+}
+
+BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOptions& o, BuildObserver* observer) {
+    BuildObserver silent;
+    BuildObserver& watch = observer ? *observer : silent;
+    check_read_options(inputs, o);
+    const std::vector<MeshFormat> formats = check_mesh_options(inputs, o); // before reading
+    std::optional<tbb::global_control> thread_limit;
+    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
+    const auto start = std::chrono::steady_clock::now();
+    Accumulation a;
+    RunReport r;
+    accumulate_survey(inputs, o, true, watch, a, r);
+    return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start));
+}
+
+AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, const BuildOptions& o,
+                                    BuildObserver* observer) {
+    BuildObserver silent;
+    check_read_options(inputs, o);
+    auto a = std::make_shared<Accumulation>();
+    a->read_options = o;
+    AccumulatedInputs result;
+    result.inputs = inputs;
+    accumulate_survey(inputs, o, false, observer ? *observer : silent, *a, result.report);
+    result.accumulation = std::move(a);
+    return result;
+}
+
+BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions& o, BuildObserver* observer) {
+    BuildObserver silent;
+    if (!accumulated.accumulation) usage_error("inputs", "nothing accumulated: accumulate_inputs first");
+    const Accumulation& a = *accumulated.accumulation;
+    if (!same_read_options(a.read_options, o))
+        usage_error("grid", "these options read the inputs differently (grid, bounds, CRS, device or memory) from "
+                            "the accumulation they are meant to mesh: accumulate the inputs again with them");
+    const std::vector<MeshFormat> formats = check_mesh_options(accumulated.inputs, o);
+    std::optional<tbb::global_control> thread_limit;
+    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
+    RunReport r = accumulated.report;
+    add_placement_notes(o.outputs, a.crs, r);
+    CellGrid grid = a.grid; // the accumulation stays whole for the next mesh
+    return mesh_grid(std::move(grid), a, std::move(r), accumulated.inputs, o, formats, observer ? *observer : silent,
+                     accumulated.report.read_accumulate);
 }
 
 } // namespace lasmesh

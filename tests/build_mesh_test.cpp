@@ -170,3 +170,59 @@ TEST_CASE("build_mesh: an empty mesh is an error, and nothing is written") {
     CHECK(contains(e.what(), "the mesh is empty, nothing written"));
     for (const char* name : {"e.ply", "e.glb", "e.json"}) CHECK(!std::filesystem::exists(f.dir.file(name)));
 }
+
+TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh call, without a re-read") {
+    Fixture f;
+    // The accumulation's copy of the input is removed before meshing: a re-read would fail.
+    const std::string input = f.dir.file("moved.las");
+    std::filesystem::copy_file(f.input, input);
+    BuildOptions o = f.options({});
+    const AccumulatedInputs read = accumulate_inputs({input}, o);
+    CHECK(read.report.points_read == 60000);
+    CHECK(read.report.triangles == 0); // nothing meshed yet
+    struct Variant {
+        double simplify;
+        SurfaceKind surface;
+        std::optional<double> iso;
+    };
+    const std::vector<Variant> variants = {{0.5, SurfaceKind::sheet, std::nullopt},
+                                           {0.25, SurfaceKind::sheet, 2.0},
+                                           {0, SurfaceKind::closed, std::nullopt}};
+    std::vector<std::vector<test::Bytes>> again(variants.size());
+    std::filesystem::rename(input, input + ".away");
+    for (std::size_t k = 0; k < variants.size(); ++k) {
+        BuildOptions m = f.options({"again.ply", "again.glb", "again.html"});
+        m.simplify.error = variants[k].simplify;
+        m.surface = variants[k].surface;
+        m.iso = variants[k].iso;
+        const BuildResult result = build_mesh(read, m);
+        CHECK(result.report.points_read == 60000);
+        for (const char* name : {"again.ply", "again.glb", "again.html"})
+            again[k].push_back(test::read_file(f.dir.file(name)));
+    }
+    std::filesystem::rename(input + ".away", input);
+    for (std::size_t k = 0; k < variants.size(); ++k) {
+        CAPTURE(k);
+        BuildOptions m = f.options({"once.ply", "once.glb", "once.html"});
+        m.simplify.error = variants[k].simplify;
+        m.surface = variants[k].surface;
+        m.iso = variants[k].iso;
+        build_mesh(input, m);
+        std::size_t i = 0;
+        for (const char* name : {"once.ply", "once.glb", "once.html"})
+            CHECK(test::read_file(f.dir.file(name)) == again[k][i++]);
+    }
+    CHECK(again[0][0] != again[1][0]); // the options did change the mesh
+
+    // Options that would read differently are refused, not silently ignored.
+    BuildOptions other = f.options({"x.ply"});
+    other.grid = GridRequest::longest(32);
+    try {
+        build_mesh(read, other);
+        FAIL("no error");
+    } catch (const Error& e) {
+        CHECK(e.kind() == ErrorKind::usage);
+        CHECK(e.option() == "grid");
+    }
+    CHECK(!std::filesystem::exists(f.dir.file("x.ply")));
+}

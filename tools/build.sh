@@ -13,6 +13,8 @@ packages=(
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libdraco-dev draco libpng-dev libproj-dev libmeshoptimizer-dev zlib1g-dev
+  # `lasmesh view`'s web server
+  libcpp-httplib-dev
 )
 # What only the tests and benchmarks use.
 test_packages=(

@@ -36,6 +36,7 @@
 #include "lasmesh/surface.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -159,6 +160,34 @@ BuildResult build_mesh(const std::string& input, const BuildOptions& options, Bu
 // time. A .glb's names are then the output's file name without extension. An input that cannot be
 // read stops the run (nothing written) unless options.skip_bad_inputs.
 BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOptions& options,
+                       BuildObserver* observer = nullptr);
+
+// Read once, mesh many times (as `lasmesh view` does while its user tries options): the inputs'
+// points summed into their grid and kept, with the read's fields of the report.
+//
+//     lasmesh::BuildOptions options;
+//     const lasmesh::AccumulatedInputs read = lasmesh::accumulate_inputs({"deck.las"}, options);
+//     options.simplify.error = 0.25;                   // anything but how the inputs are read
+//     options.outputs.push_back({"deck.ply"});
+//     lasmesh::build_mesh(read, options);              // the bytes `lasmesh deck.las -o deck.ply
+//                                                      // --simplify 0.25cell` writes, no re-read
+struct Accumulation; // the grid and what the outputs need of the survey (src/build_mesh.cpp)
+struct AccumulatedInputs {
+    std::vector<std::string> inputs;
+    RunReport report; // what the read measured: input, points, grid, CRS, cells; no mesh yet
+    std::shared_ptr<const Accumulation> accumulation;
+};
+
+// Reads and accumulates as build_mesh does; only the fields that read (grid, bounds, scan_bounds,
+// skip_bad_inputs, crs, device, slice_bytes, max_memory) count. Throws Error as build_mesh does.
+AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, const BuildOptions& options,
+                                    BuildObserver* observer = nullptr);
+
+// Meshes an accumulation and writes the outputs: the same bytes build_mesh(inputs, options)
+// writes, without reading the inputs again. The grid is copied (the accumulation stays whole), so
+// this needs its host_grid_bytes once more. Throws Error (usage) when `options` read differently
+// from the options the inputs were accumulated with.
+BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions& options,
                        BuildObserver* observer = nullptr);
 
 // The report as one line of JSON (full precision), the fields in the order of the RunReport.

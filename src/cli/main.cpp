@@ -13,6 +13,7 @@
 #include "option_parsing.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
+#include "view_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -85,6 +86,9 @@ int main(int argc, char** argv) {
     lasmesh::cli::CompareCommandOptions compare;
     CLI::App* compare_command = lasmesh::cli::add_compare_command(app, compare);
 
+    lasmesh::cli::ViewOptions view;
+    CLI::App* view_command = lasmesh::cli::add_view_command(app, view);
+
     CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
     devices_command->footer(
         "Examples:\n  lasmesh devices\n  lasmesh deck.las -o deck.glb --device 1      the second device listed\n"
@@ -118,6 +122,7 @@ int main(int argc, char** argv) {
         if (*grid_command) lasmesh::cli::run_grid(grid, std::cout);
         if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);
+        if (*view_command) lasmesh::cli::run_view(view, std::cout, std::cerr);
         if (app.get_subcommands().empty()) {
             if (mesh.inputs.empty() && mesh.inputs_list.empty()) {
                 std::cerr << app.help();

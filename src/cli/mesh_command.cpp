@@ -119,11 +119,8 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_flag("-v,--verbose", o.verbose, "Details of each stage as it ends");
 }
 
-namespace {
-
-// The option text converted into the library's options; the library checks them (before reading).
-BuildOptions build_options(const MeshOptions& o) {
-    if (o.outputs.empty() && o.preview.empty())
+BuildOptions build_options(const MeshOptions& o, bool need_output) {
+    if (need_output && o.outputs.empty() && o.preview.empty())
         throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
     BuildOptions b;
     const GltfCompression glb_compression = parse_glb_compression(o.glb_compression);
@@ -157,7 +154,6 @@ BuildOptions build_options(const MeshOptions& o) {
     return b;
 }
 
-// The inputs named on the command line, then those of --inputs LIST.
 std::vector<std::string> all_inputs(const MeshOptions& o) {
     std::vector<std::string> inputs = o.inputs;
     if (o.inputs_list.empty()) return inputs;
@@ -182,8 +178,6 @@ std::vector<std::string> all_inputs(const MeshOptions& o) {
     if (listed == 0) throw Error(ErrorKind::usage, name + " lists no input (one path a line)", "inputs");
     return inputs;
 }
-
-} // namespace
 
 void run_mesh(const MeshOptions& o, std::ostream& summary) {
     BuildOptions options = build_options(o);

@@ -37,6 +37,11 @@ struct MeshOptions {
 };
 
 void add_mesh_options(CLI::App& app, MeshOptions& options);
+// The option text converted into the library's options, which the library checks (before
+// reading); throws Error (usage) without an output when `need_output`.
+BuildOptions build_options(const MeshOptions& options, bool need_output = true);
+// The inputs named on the command line, then those of --inputs LIST.
+std::vector<std::string> all_inputs(const MeshOptions& options);
 // Runs the pipeline; the summary goes to `summary` (stderr).
 void run_mesh(const MeshOptions& options, std::ostream& summary);
 

@@ -149,12 +149,24 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
     return data + buffers;
 }
 
-std::string encode_html(const Mesh& mesh, const HtmlOptions& options) {
-    const std::string_view page = html_viewer_page(), script = html_viewer_script();
-    if (page.empty() || script.empty())
+std::string compress_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
+    return zlib_compress(encode_html_mesh(mesh, options));
+}
+
+namespace {
+
+void check_viewer_built() {
+    if (html_viewer_page().empty() || html_viewer_script().empty())
         throw Error(ErrorKind::output, "this lasmesh was built without its HTML viewer (three.js and esbuild from npm "
                                        "were not found when it was built: tools/build.sh installs them)");
-    const std::string mesh_text = base64(zlib_compress(encode_html_mesh(mesh, options)));
+}
+
+} // namespace
+
+std::string html_page_with(const std::string& compressed_mesh) {
+    check_viewer_built();
+    const std::string_view page = html_viewer_page(), script = html_viewer_script();
+    const std::string mesh_text = base64(compressed_mesh);
     std::string out(page);
     for (const auto& [mark, text] : {std::pair<std::string_view, std::string_view>{"@LASMESH_VIEWER@", script},
                                      std::pair<std::string_view, std::string_view>{"@LASMESH_MESH@", mesh_text}}) {
@@ -163,6 +175,11 @@ std::string encode_html(const Mesh& mesh, const HtmlOptions& options) {
         out.replace(at, mark.size(), text);
     }
     return out;
+}
+
+std::string encode_html(const Mesh& mesh, const HtmlOptions& options) {
+    check_viewer_built(); // before the mesh's own checks
+    return html_page_with(compress_html_mesh(mesh, options));
 }
 
 } // namespace lasmesh

@@ -44,8 +44,14 @@ struct HtmlOptions {
 // was built without its viewer (three.js from npm was not there at build time).
 std::string encode_html(const Mesh& mesh, const HtmlOptions& options);
 
-// The mesh data alone (before base64): what the page decodes; for the tests.
+// The mesh data alone: what the page decodes (for the tests), and that compressed by zlib
+// (what the page holds in base64; what `lasmesh view` sends the page for a new mesh).
 std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options);
+std::string compress_html_mesh(const Mesh& mesh, const HtmlOptions& options);
+
+// The page around mesh data compressed by compress_html_mesh. Throws Error (output) when this
+// lasmesh was built without its viewer.
+std::string html_page_with(const std::string& compressed_mesh);
 
 // The viewer script, gzip-compressed and base64-encoded, and the page around it (generated at
 // build time); empty when lasmesh was built without them.

@@ -14,7 +14,7 @@ deb=$(ls "$dir"/out/lasmesh_*.deb 2>/dev/null | head -1)
 check "one package, named by version and architecture" test -n "$deb"
 [ -n "$deb" ] || { finish "package"; exit; }
 dpkg-deb -f "$deb" Depends > "$dir/depends.txt"
-for library in libtbb libboost-iostreams libdraco libpng16-16 ocl-icd-libopencl1 libstdc++6; do
+for library in libtbb libboost-iostreams libdraco libpng16-16 ocl-icd-libopencl1 libcpp-httplib libstdc++6; do
   check "depends on $library (from the linked libraries)" contains "$dir/depends.txt" "$library"
 done
 check "depends on an OpenCL driver" has "$dir/depends.txt" "pocl-opencl-icd | opencl-icd"

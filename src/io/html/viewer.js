@@ -3,7 +3,8 @@
 // holds and shows it with three.js, lit or in its flat colours, with orbit, pan and zoom, a
 // measure tool (two clicks on the surface: the distance and dx, dy, dz in the file's units,
 // snapped to a vertex when one is within a few pixels), a horizontal section, the run's facts, and
-// with a heat map (lasmesh compare) each vertex's distance to the points on request.
+// with a heat map (lasmesh compare) each vertex's distance to the points on request. Served by
+// `lasmesh view`, it also shows the controls that mesh again and save (live_controls.js).
 // Bundled with three.js by esbuild when lasmesh is built (tools/bundle_viewer.sh).
 import {
   BufferAttribute, BufferGeometry, Color, DirectionalLight, DoubleSide, HemisphereLight, Line,
@@ -12,6 +13,7 @@ import {
 } from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { MeshoptDecoder } from "three/addons/libs/meshopt_decoder.module.js";
+import { startLiveControls } from "./live_controls.js";
 
 const api = { ready: false, error: null };
 window.lasmesh = api;
@@ -25,9 +27,9 @@ const base64Bytes = (id) => {
 const inflate = async (bytes) =>
   new Uint8Array(await new Response(new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"))).arrayBuffer());
 
-// The page's mesh: header, integer positions, sRGB colours, normals, triangles.
-async function readMesh() {
-  const data = await inflate(base64Bytes("lasmesh-mesh"));
+// The page's mesh (zlib-compressed bytes): header, integer positions, sRGB colours, normals, triangles.
+async function readMesh(compressed) {
+  const data = await inflate(compressed);
   const view = new DataView(data.buffer);
   if (new TextDecoder().decode(data.subarray(0, 4)) !== "LMSH" || view.getUint32(4, true) !== 1)
     throw new Error("the page's mesh data is not lasmesh's version 1");
@@ -110,34 +112,6 @@ function fill(id, rows) {
 }
 
 async function main() {
-  const decoded = await readMesh();
-  const { header } = decoded;
-  const facts = header.facts || {};
-  const unit = unitOf(facts);
-  const decimals = Math.max(3, Math.ceil(-Math.log10((header.cell_size || 1) / 100)));
-  const number = (x) => x.toFixed(decimals);
-  document.title = `${header.name} (lasmesh)`;
-  document.getElementById("name").textContent = header.name;
-  fill("facts", [
-    ["triangles", header.triangles.toLocaleString("en")],
-    ["vertices", header.vertices.toLocaleString("en")],
-    ["cell", header.cell_size ? `${number(header.cell_size)} ${unit}` : ""],
-    ["points", facts.points_read !== undefined ? facts.points_read.toLocaleString("en") : ""],
-    ["iso", facts.iso !== undefined ? `${facts.iso} ${facts.iso === 1 ? "point" : "points"} per cell` : ""],
-    ["simplify bound", facts.simplify && facts.simplify.error ? `${number(facts.simplify.error)} ${unit}` : ""],
-    ["CRS", (facts.crs && facts.crs.summary) || header.crs || "none declared"],
-    ["origin", header.origin.map((x) => x.toFixed(3)).join(" ")],
-  ]);
-  document.getElementById("triangles").textContent = String(header.triangles);
-
-  const geometry = geometryOf(decoded);
-  const hasColors = !!decoded.colors;
-  const section = new Plane(new Vector3(0, 0, -1), 0);
-  const lit = new MeshStandardMaterial({ vertexColors: hasColors, color: hasColors ? 0xffffff : 0xb4b4b4,
-    roughness: 1, metalness: 0, side: DoubleSide });
-  const flat = new MeshBasicMaterial({ vertexColors: hasColors, color: hasColors ? 0xffffff : 0xb4b4b4, side: DoubleSide });
-  const mesh = new Mesh(geometry, lit);
-
   const renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio);
   renderer.setSize(window.innerWidth, window.innerHeight);
@@ -147,13 +121,15 @@ async function main() {
   document.body.appendChild(renderer.domElement);
 
   const scene = new Scene();
+  const section = new Plane(new Vector3(0, 0, -1), 0);
+  const lit = new MeshStandardMaterial({ roughness: 1, metalness: 0, side: DoubleSide });
+  const flat = new MeshBasicMaterial({ side: DoubleSide });
+  const mesh = new Mesh(new BufferGeometry(), lit);
   scene.add(mesh);
   const sky = new HemisphereLight(0xffffff, 0x707070, 1.6);
   sky.position.set(0, 0, 1);
   scene.add(sky);
-  const box = geometry.boundingBox, sphere = geometry.boundingSphere;
-  const radius = Math.max(sphere.radius, 1e-6);
-  const camera = new PerspectiveCamera(45, window.innerWidth / window.innerHeight, radius / 1000, radius * 100);
+  const camera = new PerspectiveCamera(45, window.innerWidth / window.innerHeight, 0.001, 1000);
   camera.up.set(0, 0, 1);
   const sun = new DirectionalLight(0xffffff, 1.4);
   sun.position.set(0.4, 0.6, 1);
@@ -162,6 +138,11 @@ async function main() {
   const controls = new OrbitControls(camera, renderer.domElement);
   const render = () => renderer.render(scene, camera);
   controls.addEventListener("change", render);
+
+  // What the mesh shown sets: replaced by show() when `lasmesh view` sends another.
+  let decoded, header, unit = "units", number = (x) => x.toFixed(3);
+  let geometry = mesh.geometry, box, sphere, radius = 1, own = null, heat = null, hasColors = false;
+  let heatOn = false;
 
   // Views: oblique from the south-west, or from above through a long lens (nearly orthographic:
   // what is seen is the plan).
@@ -178,14 +159,9 @@ async function main() {
   };
   const obliqueView = () => look(new Vector3(-0.55, -0.85, 0.75), 45);
   const topView = () => look(new Vector3(0, -1e-4, 1), 8);
-  obliqueView();
 
   // Section: everything above a horizontal plane is cut away.
   const sectionBox = document.getElementById("section"), sectionHeight = document.getElementById("section-height");
-  sectionHeight.min = box.min.z;
-  sectionHeight.max = box.max.z;
-  sectionHeight.step = (box.max.z - box.min.z) / 200 || 1;
-  sectionHeight.value = (box.min.z + box.max.z) / 2;
   const applySection = () => {
     section.constant = Number(sectionHeight.value);
     const planes = sectionBox.checked ? [section] : [];
@@ -203,10 +179,8 @@ async function main() {
   // blended between vertices as sRGB values, as the heat-map PLY shows in other viewers and as the
   // legend's ramp is drawn: the frame is then written without sRGB encoding (blending a rainbow
   // in linear light would brighten it between the vertices).
-  const own = geometry.getAttribute("color");
-  const heat = decoded.heatColors ? colorAttribute(decoded.heatColors, header.vertices, true) : null;
-  const setHeat = (on) => {
-    if (!heat) return;
+  const paint = () => {
+    const on = heatOn && !!heat;
     renderer.outputColorSpace = on ? LinearSRGBColorSpace : SRGBColorSpace;
     // The same background either way: without encoding, its sRGB values are given as they are.
     renderer.setClearColor(on ? new Color().setRGB(0xdd / 255, 0xe4 / 255, 0xea / 255, LinearSRGBColorSpace) : background);
@@ -220,15 +194,12 @@ async function main() {
     document.getElementById("heat-legend").hidden = !on;
     render();
   };
-  if (heat) {
-    const s = header.heat_scale;
-    document.getElementById("heat-choice").hidden = false;
-    const legend = document.getElementById("heat-legend"), ramp = document.createElement("span");
-    ramp.className = "ramp";
-    legend.append("0 ", ramp, ` ${number(s)} ${unit} and beyond`, document.createElement("br"),
-      `blue 0, cyan ${number(s / 4)}, green ${number(s / 2)}, yellow ${number((3 * s) / 4)}, red ${number(s)}`);
-    document.getElementById("heat").addEventListener("change", (e) => setHeat(e.target.checked));
-  }
+  const setHeat = (on) => {
+    if (!heat) return;
+    heatOn = on;
+    paint();
+  };
+  document.getElementById("heat").addEventListener("change", (e) => setHeat(e.target.checked));
 
   const setFlat = (on) => {
     mesh.material = on ? flat : lit;
@@ -244,7 +215,7 @@ async function main() {
   // coordinates: the origin plus the integer times the step, in doubles.
   const measureBox = document.getElementById("measure");
   const markers = [];
-  const markerGeometry = new SphereGeometry(radius / 150, 16, 8);
+  let markerGeometry = new SphereGeometry(1, 16, 8);
   const markerMaterial = new MeshBasicMaterial({ color: 0xe0115f, depthTest: false });
   const lineMaterial = new LineBasicMaterial({ color: 0xe0115f, depthTest: false });
   let picked = [], line = null;
@@ -267,6 +238,13 @@ async function main() {
     fill("measurement", rows);
     out.hidden = picked.length === 0;
   };
+  const clearMeasurement = () => {
+    picked = [];
+    for (const m of markers.splice(0)) scene.remove(m);
+    if (line) scene.remove(line), (line = null);
+    api.measurement = null;
+    showMeasurement();
+  };
   const pick = (clientX, clientY) => {
     const rect = renderer.domElement.getBoundingClientRect();
     const ndc = new Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
@@ -283,11 +261,7 @@ async function main() {
     }
     const local = vertex !== null ? [0, 1, 2].map((k) => geometry.attributes.position.array[3 * vertex + k]) : hit.point.toArray();
     const file = vertex !== null ? fileCoordinates(vertex) : local.map((x, k) => x + header.origin[k]);
-    if (picked.length === 2) {
-      picked = [];
-      for (const m of markers.splice(0)) scene.remove(m);
-      if (line) scene.remove(line), (line = null);
-    }
+    if (picked.length === 2) clearMeasurement();
     picked.push({ file, vertex, local });
     const marker = new Mesh(markerGeometry, markerMaterial);
     marker.position.set(...local);
@@ -319,16 +293,74 @@ async function main() {
     render();
   });
 
+  // Shows a decoded mesh: the first, or (keepView) another of the same data from `lasmesh view`.
+  const show = (next, keepView) => {
+    decoded = next;
+    header = decoded.header;
+    const facts = header.facts || {};
+    unit = unitOf(facts);
+    const decimals = Math.max(3, Math.ceil(-Math.log10((header.cell_size || 1) / 100)));
+    number = (x) => x.toFixed(decimals);
+    document.title = `${header.name} (lasmesh)`;
+    document.getElementById("name").textContent = header.name;
+    fill("facts", [
+      ["triangles", header.triangles.toLocaleString("en")],
+      ["vertices", header.vertices.toLocaleString("en")],
+      ["cell", header.cell_size ? `${number(header.cell_size)} ${unit}` : ""],
+      ["points", facts.points_read !== undefined ? facts.points_read.toLocaleString("en") : ""],
+      ["iso", facts.iso !== undefined ? `${facts.iso} ${facts.iso === 1 ? "point" : "points"} per cell` : ""],
+      ["simplify bound", facts.simplify && facts.simplify.error ? `${number(facts.simplify.error)} ${unit}` : ""],
+      ["CRS", (facts.crs && facts.crs.summary) || header.crs || "none declared"],
+      ["origin", header.origin.map((x) => x.toFixed(3)).join(" ")],
+    ]);
+    document.getElementById("triangles").textContent = String(header.triangles);
+
+    clearMeasurement();
+    geometry.dispose();
+    geometry = geometryOf(decoded);
+    mesh.geometry = geometry;
+    hasColors = !!decoded.colors;
+    own = geometry.getAttribute("color") || null;
+    heat = decoded.heatColors ? colorAttribute(decoded.heatColors, header.vertices, true) : null;
+    box = geometry.boundingBox, sphere = geometry.boundingSphere;
+    radius = Math.max(sphere.radius, 1e-6);
+    markerGeometry.dispose();
+    markerGeometry = new SphereGeometry(radius / 150, 16, 8);
+
+    sectionHeight.min = box.min.z;
+    sectionHeight.max = box.max.z;
+    sectionHeight.step = (box.max.z - box.min.z) / 200 || 1;
+    if (!keepView) sectionHeight.value = (box.min.z + box.max.z) / 2;
+
+    document.getElementById("heat-choice").hidden = !heat;
+    const legend = document.getElementById("heat-legend");
+    legend.replaceChildren();
+    if (heat) {
+      const s = header.heat_scale, ramp = document.createElement("span");
+      ramp.className = "ramp";
+      legend.append("0 ", ramp, ` ${number(s)} ${unit} and beyond`, document.createElement("br"),
+        `blue 0, cyan ${number(s / 4)}, green ${number(s / 2)}, yellow ${number((3 * s) / 4)}, red ${number(s)}`);
+    }
+    paint();
+    applySection();
+    if (!keepView) obliqueView();
+    else render();
+    Object.assign(api, { triangles: header.triangles, vertices: header.vertices, header });
+  };
+
+  show(await readMesh(base64Bytes("lasmesh-mesh")), false);
   Object.assign(api, {
-    triangles: header.triangles, vertices: header.vertices, header,
     // Where a point in the file's coordinates is on the screen (CSS pixels).
     screenOfFile: (p) => screenOf(p.map((x, k) => x - header.origin[k])),
     vertexInFile: fileCoordinates,
     setFlat, setHeat, topView, obliqueView, measurement: null,
     picked: () => picked.map((p) => p.file),
     canvas: renderer.domElement,
-    ready: true,
   });
+  // Served by `lasmesh view`: the controls that mesh again and save.
+  const live = document.getElementById("lasmesh-live");
+  if (live) startLiveControls(JSON.parse(live.textContent), async (bytes) => show(await readMesh(bytes), true), api);
+  api.ready = true;
 }
 
 main().catch((e) => {

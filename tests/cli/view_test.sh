@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# `lasmesh view`: started on a small deck, driven in headless Chromium (tests/browser/view_page.js):
+# token and Host checks, a new mesh from the accumulated grid without a re-read (the server's log
+# says so), Save, and the command line it shows writes the same bytes; another grid reads again.
+# Ends with SIGTERM: exit 143, no output half-written.
+# LASMESH_SCREENSHOTS=FOLDER keeps a picture of the page (docs/img/view-page.png comes from here).
+# Skipped (77) where Chromium or puppeteer-core is not installed (tools/test.sh installs them).
+# Usage: view_test.sh LASMESH LASGEN BROWSER_PACKAGES_FOLDER
+set -u
+lasmesh=$1 lasgen=$2 packages=$3 here=$(dirname "$0")
+source "$here/common.sh"
+
+"$lasgen" --scene deck --points 300000 --epsg 32631 -o "$dir/deck.las" > /dev/null
+"$lasmesh" view "$dir/deck.las" -o "$dir/deck.ply" -o "$dir/deck.html" > "$dir/url.txt" 2> "$dir/log.txt" &
+server=$!
+trap 'kill $server 2>/dev/null; chmod -R u+w "$dir"; rm -rf "$dir"' EXIT
+for _ in $(seq 600); do
+  [ -s "$dir/url.txt" ] || ! kill -0 $server 2>/dev/null && break
+  sleep 0.1
+done
+url=$(head -1 "$dir/url.txt")
+check "prints a URL on 127.0.0.1 with a token" grep -Eq '^http://127\.0\.0\.1:[0-9]+/\?token=[0-9a-f]{32}$' "$dir/url.txt"
+check "nothing written before Save" test ! -e "$dir/deck.ply"
+
+shot=()
+[ -n "${LASMESH_SCREENSHOTS:-}" ] && shot=(--screenshot "$LASMESH_SCREENSHOTS/view-page.png")
+node "$here/../browser/view_page.js" "$packages" "$url" "${shot[@]}" > "$dir/page.txt"; rc=$?
+cat "$dir/page.txt"
+[ "$rc" -eq 77 ] && exit 77
+check "in Chromium: every check passes" test "$rc" -eq 0
+check "the server says the new bound re-used the grid" has "$dir/log.txt" "from the accumulated grid (no re-read)"
+check "the server says the new grid read the points again" has "$dir/log.txt" "the inputs read again for the grid"
+
+# The command line the page showed, run: the same bytes as Save wrote.
+command=$(sed -n 's/^command: //p' "$dir/page.txt")
+check "the page showed a command line" test -n "$command"
+mkdir -p "$dir/saved" && cp "$dir/deck.ply" "$dir/deck.html" "$dir/saved/" 2>/dev/null
+PATH="$(dirname "$lasmesh"):$PATH" bash -c "$command -q" 2> "$dir/command.txt"
+check "the command line runs" test -s "$dir/deck.ply"
+check "its PLY is Save's, byte for byte" cmp -s "$dir/deck.ply" "$dir/saved/deck.ply"
+check "its page is Save's, byte for byte" cmp -s "$dir/deck.html" "$dir/saved/deck.html"
+
+kill -TERM $server; wait $server; rc=$?
+check "SIGTERM stops it (exit 143)" test "$rc" -eq 143
+check "no temporary file left" bash -c "! ls -a '$dir' | grep -q '\\.tmp'"
+finish view
