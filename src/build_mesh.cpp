@@ -30,6 +30,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -43,6 +44,26 @@ struct Accumulation {
     std::optional<CrsInfo> crs;
     std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
     std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
+
+    // The last surface extracted, small pieces removed, before simplification: a new mesh that
+    // changes only the simplification (or the normals, or the outputs) starts from it instead of
+    // extracting again. Kept by accumulate_inputs' accumulations only.
+    struct Surface {
+        double iso = 0;
+        SurfaceKind surface{};
+        VertexPlacement placement{};
+        MinPiece min_piece;
+        std::size_t extracted = 0; // triangles before small pieces were removed
+        PieceCount pieces;
+        Mesh mesh;
+        bool same_options(double i, const BuildOptions& o) const {
+            return iso == i && surface == o.surface && placement == o.placement &&
+                   min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative;
+        }
+    };
+    bool keeps_surface = false;
+    mutable std::mutex surface_mutex;
+    mutable std::shared_ptr<const Surface> surface;
 };
 
 namespace {
@@ -418,15 +439,36 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     // Extraction, small pieces, simplification and normals: the mesh of one grid.
     const auto surface_of = [&](CellGrid&& cells, double iso, PieceCount* pieces, SimplifyReport* simplified) {
         const double cell = cells.spec.cell_size;
-        // The sheet releases the grid's cells as soon as it no longer reads them.
-        Mesh m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
-                                                 : extract_closed_surface(cells, iso, o.placement);
-        cells = CellGrid{}; // not needed any more: the writers get its memory
-        const std::size_t extracted = m.triangles.size();
-        if (pieces)
-            watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso));
-        if (pieces) watch.stage_started(BuildStage::extract, "removing small pieces");
-        const PieceCount removed = remove_small_pieces(m, o.min_piece);
+        std::shared_ptr<const Accumulation::Surface> kept; // the finest level's, when it has the same options
+        if (pieces && a.keeps_surface) {
+            const std::lock_guard lock(a.surface_mutex);
+            if (a.surface && a.surface->same_options(iso, o)) kept = a.surface;
+        }
+        Mesh m;
+        std::size_t extracted = 0;
+        PieceCount removed;
+        if (kept) {
+            m = kept->mesh, extracted = kept->extracted, removed = kept->pieces;
+            cells = CellGrid{};
+            watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso) +
+                         ", the accumulation's surface re-used");
+        } else {
+            // The sheet releases the grid's cells as soon as it no longer reads them.
+            m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
+                                                : extract_closed_surface(cells, iso, o.placement);
+            cells = CellGrid{}; // not needed any more: the writers get its memory
+            extracted = m.triangles.size();
+            if (pieces)
+                watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso));
+            if (pieces) watch.stage_started(BuildStage::extract, "removing small pieces");
+            removed = remove_small_pieces(m, o.min_piece);
+            if (pieces && a.keeps_surface) {
+                auto surface = std::make_shared<const Accumulation::Surface>(
+                    Accumulation::Surface{iso, o.surface, o.placement, o.min_piece, extracted, removed, m});
+                const std::lock_guard lock(a.surface_mutex);
+                a.surface = std::move(surface);
+            }
+        }
         SimplifyOptions simplify;
         simplify.error = o.simplify.in_cells ? o.simplify.error * cell : o.simplify.error;
         simplify.lock_border = o.simplify.lock_border;
@@ -564,6 +606,7 @@ AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, cons
     check_read_options(inputs, o);
     auto a = std::make_shared<Accumulation>();
     a->read_options = o;
+    a->keeps_surface = true;
     AccumulatedInputs result;
     result.inputs = inputs;
     accumulate_survey(inputs, o, false, observer ? *observer : silent, *a, result.report);

@@ -185,9 +185,16 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         SurfaceKind surface;
         std::optional<double> iso;
     };
+    // The second starts from the first's surface (only the simplification differs).
     const std::vector<Variant> variants = {{0.5, SurfaceKind::sheet, std::nullopt},
+                                           {0.25, SurfaceKind::sheet, std::nullopt},
                                            {0.25, SurfaceKind::sheet, 2.0},
                                            {0, SurfaceKind::closed, std::nullopt}};
+    struct Details : BuildObserver {
+        std::string text;
+        void detail(const std::string& line) override { text += line + "\n"; }
+    };
+    std::vector<std::string> details;
     std::vector<std::vector<test::Bytes>> again(variants.size());
     std::filesystem::rename(input, input + ".away");
     for (std::size_t k = 0; k < variants.size(); ++k) {
@@ -195,7 +202,9 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         m.simplify.error = variants[k].simplify;
         m.surface = variants[k].surface;
         m.iso = variants[k].iso;
-        const BuildResult result = build_mesh(read, m);
+        Details watch;
+        const BuildResult result = build_mesh(read, m, &watch);
+        details.push_back(watch.text);
         CHECK(result.report.points_read == 60000);
         for (const char* name : {"again.ply", "again.glb", "again.html"})
             again[k].push_back(test::read_file(f.dir.file(name)));
@@ -213,6 +222,12 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
             CHECK(test::read_file(f.dir.file(name)) == again[k][i++]);
     }
     CHECK(again[0][0] != again[1][0]); // the options did change the mesh
+    CHECK(again[1][0] != again[2][0]);
+    const std::string reused = "the accumulation's surface re-used";
+    CHECK(!contains(details[0], reused));
+    CHECK(contains(details[1], reused)); // the same surface, simplified less
+    CHECK(!contains(details[2], reused));
+    CHECK(!contains(details[3], reused));
 
     // Options that would read differently are refused, not silently ignored.
     BuildOptions other = f.options({"x.ply"});

@@ -8,11 +8,12 @@
 # Skipped (77) where Chromium or puppeteer-core is not installed (tools/test.sh installs them).
 # Usage: view_test.sh LASMESH LASGEN BROWSER_PACKAGES_FOLDER
 set -u
-lasmesh=$1 lasgen=$2 packages=$3 here=$(dirname "$0")
+lasmesh=$1 lasgen=$2 packages=$3 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/common.sh"
+cd "$dir" # the names as a user types them: the command line shown is then theirs
 
 "$lasgen" --scene deck --points 300000 --epsg 32631 -o "$dir/deck.las" > /dev/null
-"$lasmesh" view "$dir/deck.las" -o "$dir/deck.ply" -o "$dir/deck.html" > "$dir/url.txt" 2> "$dir/log.txt" &
+"$lasmesh" view deck.las -o deck.ply -o deck.html > "$dir/url.txt" 2> "$dir/log.txt" &
 server=$!
 trap 'kill $server 2>/dev/null; chmod -R u+w "$dir"; rm -rf "$dir"' EXIT
 for _ in $(seq 600); do
