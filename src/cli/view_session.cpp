@@ -116,7 +116,7 @@ std::shared_ptr<const ViewSession::Shown> ViewSession::mesh_with(const MeshOptio
 }
 
 std::string ViewSession::page(const Json& live) const {
-    std::string page = html_page_with(*mesh_data());
+    std::string page = html_page_with(std::string()); // the page fetches the mesh, showing its progress
     // JSON in a <script> element: "</" would end the element early.
     std::string text = json_line(live);
     for (std::size_t at = 0; (at = text.find("</", at)) != std::string::npos; at += 3) text.replace(at, 2, "<\\/");

@@ -29,7 +29,8 @@ class ViewSession {
     // meshing command does. Lines about each job go to `log`.
     ViewSession(const MeshOptions& options, std::ostream& log);
 
-    // The page of the current mesh, with `live` (JSON: the server's token) for its controls.
+    // The page without a mesh (it fetches mesh_data), with `live` (JSON: the server's token and
+    // the state) for its controls.
     std::string page(const Json& live) const;
     // The current mesh as the page decodes it (zlib of the page's mesh data).
     std::shared_ptr<const std::string> mesh_data() const;

@@ -5,6 +5,34 @@
 // line named, and the command line that writes the same. Every request carries the page's token.
 
 const byId = (id) => document.getElementById(id);
+
+// The bytes at `url`, read as they arrive; `progress(bytes, total)` after each piece (total 0
+// when the server does not say).
+export async function fetchBytes(url, progress) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url.split("?")[0]}: ${response.status} ${response.statusText}`);
+  const total = Number(response.headers.get("Content-Length")) || 0;
+  const reader = response.body.getReader(), pieces = [];
+  let received = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    pieces.push(value);
+    received += value.length;
+    progress(received, total);
+  }
+  const bytes = new Uint8Array(received);
+  let at = 0;
+  for (const piece of pieces) bytes.set(piece, at), (at += piece.length);
+  return bytes;
+}
+
+const megabytes = (n) => `${(n / 1e6).toFixed(1)} MB`;
+
+// The mesh `lasmesh view` serves now, its loading shown in `element`.
+export const fetchMesh = (token, element) => fetchBytes(`/mesh?token=${encodeURIComponent(token)}`, (got, total) => {
+  element.textContent = `loading the mesh: ${megabytes(got)}${total ? ` of ${megabytes(total)}` : ""}`;
+});
 const fields = { grid: "opt-grid", voxel: "opt-voxel", iso: "opt-iso", surface: "opt-surface",
   simplify: "opt-simplify", min_piece: "opt-min-piece" };
 
@@ -77,8 +105,7 @@ export function startLiveControls(live, showBytes, api) {
     const settings = {};
     for (const [key, id] of Object.entries(fields)) settings[key] = byId(id).value.trim();
     const state = await post("/mesh", settings);
-    const bytes = new Uint8Array(await (await fetch(withToken("/mesh"))).arrayBuffer());
-    await showBytes(bytes);
+    await showBytes(await fetchMesh(live.token, byId("live-status")));
     setState(state);
     api.live.reread = state.reread;
     status(`${state.triangles.toLocaleString("en")} triangles in ${state.seconds.toFixed(2)} s, ` +

@@ -13,7 +13,7 @@ import {
 } from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { MeshoptDecoder } from "three/addons/libs/meshopt_decoder.module.js";
-import { startLiveControls } from "./live_controls.js";
+import { fetchMesh, startLiveControls } from "./live_controls.js";
 
 const api = { ready: false, error: null };
 window.lasmesh = api;
@@ -348,18 +348,27 @@ async function main() {
     Object.assign(api, { triangles: header.triangles, vertices: header.vertices, header });
   };
 
-  show(await readMesh(base64Bytes("lasmesh-mesh")), false);
+  // A page written to a file holds its mesh; `lasmesh view`'s page fetches it, showing progress.
+  const live = document.getElementById("lasmesh-live");
+  const liveSettings = live ? JSON.parse(live.textContent) : null;
+  const held = document.getElementById("lasmesh-mesh").textContent.trim() !== "";
+  show(await readMesh(held ? base64Bytes("lasmesh-mesh") : await fetchMesh(liveSettings.token,
+    document.getElementById("name"))), false);
   Object.assign(api, {
     // Where a point in the file's coordinates is on the screen (CSS pixels).
     screenOfFile: (p) => screenOf(p.map((x, k) => x - header.origin[k])),
     vertexInFile: fileCoordinates,
     setFlat, setHeat, topView, obliqueView, measurement: null,
+    // Turns the camera about the vertical through its target and draws (benchmarks orbit with it).
+    orbitBy: (radians) => {
+      camera.position.sub(controls.target).applyAxisAngle(new Vector3(0, 0, 1), radians).add(controls.target);
+      controls.update();
+    },
     picked: () => picked.map((p) => p.file),
     canvas: renderer.domElement,
   });
   // Served by `lasmesh view`: the controls that mesh again and save.
-  const live = document.getElementById("lasmesh-live");
-  if (live) startLiveControls(JSON.parse(live.textContent), async (bytes) => show(await readMesh(bytes), true), api);
+  if (live) startLiveControls(liveSettings, async (bytes) => show(await readMesh(bytes), true), api);
   api.ready = true;
 }
 
