@@ -27,8 +27,4 @@ struct ServeOptions {
 // `out`, notes on `log`. Throws Error (usage) when it cannot listen on the address and port.
 void serve(ViewSession& session, const ServeOptions& options, std::ostream& out, std::ostream& log);
 
-// Whether the Host header `host` names a server on `port`: "127.0.0.1:8080", "localhost:8080",
-// "[::1]:8080"; when `any_address`, also any IP address or `machine` (this machine's name).
-bool host_names_server(const std::string& host, int port, bool any_address, const std::string& machine);
-
 } // namespace lasmesh::cli
