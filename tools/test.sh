@@ -36,7 +36,7 @@ fi
 # The tests again under AddressSanitizer (with LeakSanitizer) and UndefinedBehaviorSanitizer, in
 # build-asan/ (GCC, -O1 to keep them fast; UBSan stops at the first finding): the unit tests, and
 # the command-line tests that feed the tool bad input (errors, LAZ) or run the whole pipeline
-# (mesh). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
+# (mesh), and `lasmesh view` (its server's threads, driven from Chromium). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
 # tests, which go through the same library code as these with good input.
 mkdir -p build-asan && ln -sfn ../build/viewer build-asan/viewer # the .html viewer's npm packages
 if [ ! -f build-asan/Makefile ]; then # (a configure that failed leaves a cache but no Makefile)
@@ -45,6 +45,7 @@ if [ ! -f build-asan/Makefile ]; then # (a configure that failed leaves a cache 
 fi
 cmake --build build-asan --parallel "$(nproc)" --target lasmesh lasmesh_tests lasgen -- --no-print-directory
 ln -sfn ../build/gltf-validator build-asan/gltf-validator
+ln -sfn ../build/browser build-asan/browser
 # LeakSanitizer reports leaks inside PoCL and LLVM (the OpenCL compiler) too: those are not ours
 # and are suppressed (tools/lsan.supp); a leak in lasmesh's own code still fails the run.
 # LeakSanitizer stops the process with ptrace at exit, which some machines (containers, kernels
@@ -63,7 +64,7 @@ fi
 rm -rf "$probe"
 (cd build-asan && LASMESH_SANITIZED=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ASAN_OPTIONS="detect_leaks=$detect_leaks" LSAN_OPTIONS="suppressions=$PWD/../tools/lsan.supp" \
-  ctest --output-on-failure --timeout 900 --parallel 2 -R '^(unit|cli_errors|cli_laz|cli_mesh)$')
+  ctest --output-on-failure --timeout 900 --parallel 2 -R '^(unit|cli_errors|cli_laz|cli_mesh|browser_view)$')
 
 # The LAS reader under libFuzzer for a bounded time; `bash tools/fuzz.sh 3600` fuzzes longer.
 bash tools/fuzz.sh 60
