@@ -62,9 +62,21 @@ if ! grep -q "detected memory leaks" "$probe/out"; then
   echo "test.sh: LeakSanitizer cannot trace processes on this machine: the sanitizer run checks addresses and undefined behaviour, not leaks" >&2
 fi
 rm -rf "$probe"
-(cd build-asan && LASMESH_SANITIZED=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ASAN_OPTIONS="detect_leaks=$detect_leaks" LSAN_OPTIONS="suppressions=$PWD/../tools/lsan.supp" \
-  ctest --output-on-failure --timeout 900 --parallel 2 -R '^(unit|cli_errors|cli_laz|cli_mesh|browser_view)$')
+# The command links OpenSSL (cpp-httplib, for `lasmesh view`, brings it in): with it loaded,
+# LeakSanitizer's walk over the threads' dynamic TLS blocks crashes on Debian 12's glibc ("DTLS at
+# 0x1490", "Tracer caught signal 11") after the run itself succeeded. The command's tests therefore
+# run with TLS not taken as roots (use_tls=0): that can only add reports (memory only TLS holds
+# looks leaked), never hide one; what OpenSSL and the dynamic loader keep per thread is suppressed
+# (tools/lsan_tls.supp). The unit tests, which do not link OpenSSL, keep the default.
+(cd build-asan && export LASMESH_SANITIZED=1 UBSAN_OPTIONS=print_stacktrace=1 ASAN_OPTIONS="detect_leaks=$detect_leaks"
+  LSAN_OPTIONS="suppressions=$PWD/../tools/lsan.supp" \
+    ctest --output-on-failure --timeout 900 -R '^unit$' > unit-sanitized.log 2>&1 &
+  unit=$! failed=0
+  LSAN_OPTIONS="suppressions=$PWD/../tools/lsan_tls.supp:use_tls=0:print_suppressions=0" \
+    ctest --output-on-failure --timeout 900 -R '^(cli_errors|cli_laz|cli_mesh|browser_view)$' || failed=1
+  wait "$unit" || failed=1
+  cat unit-sanitized.log
+  [ "$failed" -eq 0 ])
 
 # The LAS reader under libFuzzer for a bounded time; `bash tools/fuzz.sh 3600` fuzzes longer.
 bash tools/fuzz.sh 60
