@@ -14,14 +14,20 @@
 
 namespace lasmesh::cli {
 
-// The progress of the job running, for the page's progress bar; lines for the log.
+// The session's one job while it runs (SessionBusy when another holds it), and its progress for
+// the page's progress bar.
 class ViewSession::Watch : public BuildObserver {
   public:
-    explicit Watch(ViewSession& session) : session_(session) {
+    explicit Watch(ViewSession& session) : session_(session), job_(session.job_, std::try_to_lock) {
+        if (!job_.owns_lock()) throw SessionBusy{};
+        session_.busy_ = true;
         session_.points_ = 0;
         session_.points_total_ = 0;
     }
-    ~Watch() override { set_stage("idle"); }
+    ~Watch() override {
+        set_stage("idle");
+        session_.busy_ = false;
+    }
     void stage_started(BuildStage, const std::string& what) override { set_stage(what); }
     void points_read(std::uint64_t points, std::uint64_t points_total, std::uint64_t,
                      std::optional<std::uint64_t>) override {
@@ -35,6 +41,7 @@ class ViewSession::Watch : public BuildObserver {
         session_.stage_ = what;
     }
     ViewSession& session_;
+    std::unique_lock<std::mutex> job_;
 };
 
 namespace {
@@ -90,22 +97,24 @@ ViewSession::ViewSession(const MeshOptions& options, std::ostream& log) : log_(l
          << std::endl;
     Watch watch(*this);
     const auto start = std::chrono::steady_clock::now();
-    read_ = std::make_shared<const AccumulatedInputs>(accumulate_inputs(inputs_, b, &watch));
-    shown_ = mesh_with(options, *read_, watch);
-    log_ << "lasmesh view: " << read_->report.points_read << " points read, " << shown_->triangles << " triangles, in "
+    shown_ =
+        mesh_with(options, std::make_shared<const AccumulatedInputs>(accumulate_inputs(inputs_, b, &watch)), watch);
+    log_ << "lasmesh view: " << shown_->read->report.points_read << " points read, " << shown_->triangles
+         << " triangles, in "
          << two_digits(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) << " s"
          << std::endl;
 }
 
-std::shared_ptr<const ViewSession::Shown> ViewSession::mesh_with(const MeshOptions& options,
-                                                                 const AccumulatedInputs& read, Watch& watch) {
+std::shared_ptr<const ViewSession::Shown>
+ViewSession::mesh_with(const MeshOptions& options, std::shared_ptr<const AccumulatedInputs> read, Watch& watch) {
     BuildOptions b = build_options(options, false);
     b.outputs.clear();
     b.report.clear();
     b.keep_mesh = true;
-    const BuildResult result = build_mesh(read, b, &watch);
+    const BuildResult result = build_mesh(*read, b, &watch);
     auto shown = std::make_shared<Shown>();
     shown->options = options;
+    shown->read = std::move(read);
     shown->facts = run_report_json(result.report);
     HtmlOptions page;
     page.name = shown_name(inputs_);
@@ -126,17 +135,12 @@ std::string ViewSession::page(const Json& live) const {
 }
 
 std::shared_ptr<const std::string> ViewSession::mesh_data() const {
-    const std::lock_guard lock(shown_mutex_);
-    return shown_->mesh_data;
+    return shown()->mesh_data;
 }
 
 Json ViewSession::state() const {
-    std::shared_ptr<const Shown> shown;
-    {
-        const std::lock_guard lock(shown_mutex_);
-        shown = shown_;
-    }
-    const MeshOptions& o = shown->options;
+    const std::shared_ptr<const Shown> now = shown();
+    const MeshOptions& o = now->options;
     Json outputs = Json::array();
     for (const std::string& path : o.outputs) outputs.push_back(path);
     if (!o.preview.empty()) outputs.push_back(o.preview);
@@ -149,43 +153,37 @@ Json ViewSession::state() const {
                   {"min_piece", o.min_piece}}},
                 {"outputs", outputs},
                 {"command", command_line(o)},
-                {"triangles", shown->triangles},
+                {"triangles", now->triangles},
                 {"grid_rereadable", std::find(inputs_.begin(), inputs_.end(), "-") == inputs_.end()},
-                {"facts", Json::parse(shown->facts)}};
+                {"facts", Json::parse(now->facts)}};
+}
+
+std::shared_ptr<const ViewSession::Shown> ViewSession::shown() const {
+    const std::lock_guard lock(shown_mutex_);
+    return shown_;
 }
 
 Json ViewSession::remesh(const Json& settings) {
-    std::unique_lock job(job_, std::try_to_lock);
-    if (!job.owns_lock()) throw SessionBusy{};
-    busy_ = true;
-    struct Idle {
-        std::atomic<bool>& busy;
-        ~Idle() { busy = false; }
-    } idle{busy_};
-    std::shared_ptr<const AccumulatedInputs> read;
-    MeshOptions before;
-    {
-        const std::lock_guard lock(shown_mutex_);
-        read = read_;
-        before = shown_->options;
-    }
+    Watch watch(*this); // before anything is checked: one job at a time
+    const std::shared_ptr<const Shown> before_shown = shown();
+    const MeshOptions& before = before_shown->options;
     const MeshOptions next = with_settings(before, settings);
     const BuildOptions b = build_options(next, false); // every option text checked before any work
     const bool reread = reads_differently(before, next);
     if (reread && std::find(inputs_.begin(), inputs_.end(), "-") != inputs_.end())
         throw Error(ErrorKind::usage,
                     "standard input cannot be read again for another grid: start lasmesh view with that grid", "grid");
-    Watch watch(*this);
     const auto start = std::chrono::steady_clock::now();
-    if (reread) read = std::make_shared<const AccumulatedInputs>(accumulate_inputs(inputs_, b, &watch));
-    std::shared_ptr<const Shown> shown = mesh_with(next, *read, watch);
+    const std::shared_ptr<const Shown> now = mesh_with(
+        next,
+        reread ? std::make_shared<const AccumulatedInputs>(accumulate_inputs(inputs_, b, &watch)) : before_shown->read,
+        watch);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     {
         const std::lock_guard lock(shown_mutex_);
-        read_ = read;
-        shown_ = shown;
+        shown_ = now;
     }
-    log_ << "lasmesh view: " << shown->triangles << " triangles in " << two_digits(seconds) << " s, "
+    log_ << "lasmesh view: " << now->triangles << " triangles in " << two_digits(seconds) << " s, "
          << (reread ? "the inputs read again for the grid" : "from the accumulated grid (no re-read)") << ": "
          << command_line(next) << std::endl;
     Json out = state();
@@ -195,20 +193,9 @@ Json ViewSession::remesh(const Json& settings) {
 }
 
 Json ViewSession::save(const std::vector<std::string>& chosen) {
-    std::unique_lock job(job_, std::try_to_lock);
-    if (!job.owns_lock()) throw SessionBusy{};
-    busy_ = true;
-    struct Idle {
-        std::atomic<bool>& busy;
-        ~Idle() { busy = false; }
-    } idle{busy_};
-    std::shared_ptr<const AccumulatedInputs> read;
-    MeshOptions o;
-    {
-        const std::lock_guard lock(shown_mutex_);
-        read = read_;
-        o = shown_->options;
-    }
+    Watch watch(*this);
+    const std::shared_ptr<const Shown> current = shown();
+    MeshOptions o = current->options;
     if (chosen.empty()) throw Error(ErrorKind::usage, "choose an output to save", "outputs");
     // Only the command line's outputs: the page cannot name a path of its own.
     for (const std::string& path : chosen)
@@ -220,8 +207,7 @@ Json ViewSession::save(const std::vector<std::string>& chosen) {
     };
     std::erase_if(o.outputs, [&](const std::string& path) { return !keep(path); });
     if (!keep(o.preview)) o.preview.clear();
-    Watch watch(*this);
-    const BuildResult result = build_mesh(*read, build_options(o, true), &watch);
+    const BuildResult result = build_mesh(*current->read, build_options(o, true), &watch);
     Json written = Json::array();
     for (const OutputReport& output : result.report.outputs)
         written.push_back({{"path", output.path}, {"bytes", output.bytes}});

@@ -48,20 +48,23 @@ class ViewSession {
     Json progress() const;
 
   private:
+    // The mesh shown, the options it was made with and the accumulation it was made from.
     struct Shown {
         MeshOptions options;
+        std::shared_ptr<const AccumulatedInputs> read;
         std::shared_ptr<const std::string> mesh_data;
         std::string facts; // the run report JSON of the mesh shown
         std::size_t triangles = 0;
     };
     class Watch;
-    std::shared_ptr<const Shown> mesh_with(const MeshOptions& options, const AccumulatedInputs& read, Watch& watch);
+    std::shared_ptr<const Shown> mesh_with(const MeshOptions& options, std::shared_ptr<const AccumulatedInputs> read,
+                                           Watch& watch);
+    std::shared_ptr<const Shown> shown() const;
 
     std::ostream& log_;
     std::vector<std::string> inputs_;
-    std::mutex job_;                 // one mesh or save at a time
-    mutable std::mutex shown_mutex_; // guards read_ and shown_ while they are replaced
-    std::shared_ptr<const AccumulatedInputs> read_;
+    std::mutex job_;                 // one mesh or save at a time (held by a Watch)
+    mutable std::mutex shown_mutex_; // guards shown_ while it is replaced
     std::shared_ptr<const Shown> shown_;
     mutable std::mutex stage_mutex_;
     std::string stage_ = "idle";
