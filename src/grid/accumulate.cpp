@@ -3,7 +3,7 @@
 // kernels/accumulate.cl over each; the host reads records straight into the device's slice
 // buffers (mapped, so a device that shares host memory copies nothing), adds a chunk to the pool
 // of bricks when a slice's new bricks would not fit, and reads the pool back in brick order.
-// The steps, in the order Accumulation::run takes them: plan the slices, build the kernels, make
+// The steps, in the order DeviceAccumulation::run takes them: plan the slices, build the kernels, make
 // the buffers, then per slice upload and add (new bricks deferred: grow the pool, give them
 // slots, add their points), then read the totals and the pool back.
 #include "grid/auto_grid.hpp"
@@ -64,9 +64,9 @@ struct Carry {
 
 // One accumulation: the device's buffers and kernels, the host's view of the pool, and the grid
 // being filled. Each step is a member function; run() calls them in order.
-class Accumulation {
+class DeviceAccumulation {
   public:
-    Accumulation(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options)
+    DeviceAccumulation(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options)
         : reader_(reader), header_(reader.header()), dev_(device.impl()), options_(options),
           length_(header_.point_record_length), color_(has_color(header_)) {}
 
@@ -493,7 +493,7 @@ class Accumulation {
 
 // Accumulates into the grid `options` names exactly (a chosen request, or a given spec).
 static CellGrid accumulate_into(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
-    return Accumulation(reader, device, options).run();
+    return DeviceAccumulation(reader, device, options).run();
 }
 
 CellGrid accumulate_cells(SurveyReader& reader, ComputeDevice& device, const AccumulateOptions& options) {
