@@ -2,6 +2,7 @@
 // The pipeline behind build_mesh: read -> accumulate -> extract -> remove small pieces ->
 // simplify -> normals -> write each output, timed per stage and per output.
 #include "lasmesh/build_mesh.hpp"
+#include "build_steps.hpp"
 #include "number_text.hpp"
 
 #include "grid/auto_grid.hpp"
@@ -37,37 +38,6 @@
 
 namespace lasmesh {
 
-// What reading leaves for meshing: the grid, and what the outputs need of the survey.
-struct Accumulation {
-    BuildOptions read_options; // the options it was read with (their read fields count)
-    CellGrid grid;
-    std::optional<CrsInfo> crs;
-    std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
-    std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
-
-    // The last surface extracted, small pieces removed, before simplification: a new mesh that
-    // changes only the simplification (or the normals, or the outputs) starts from it instead of
-    // extracting again. Kept by accumulate_inputs' accumulations only.
-    struct Surface {
-        double iso = 0;
-        SurfaceKind surface{};
-        VertexPlacement placement{};
-        MinPiece min_piece;
-        std::size_t extracted = 0; // triangles before small pieces were removed
-        PieceCount pieces;
-        Mesh mesh;
-        bool same_options(double i, const BuildOptions& o) const {
-            return iso == i && surface == o.surface && placement == o.placement &&
-                   min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative;
-        }
-    };
-    bool keeps_surface = false;
-    mutable std::mutex surface_mutex;
-    mutable std::shared_ptr<const Surface> surface;
-};
-
-namespace {
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -79,6 +49,8 @@ std::uint64_t resident_bytes() {
     if (!(statm >> size >> resident)) return 0;
     return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
+
+namespace {
 
 std::uint64_t peak_rss_bytes() {
     rusage usage{};
@@ -213,6 +185,8 @@ bool finite_at_least_zero(double value) {
     return std::isfinite(value) && value >= 0;
 }
 
+} // namespace
+
 // The checks on what reading takes: inputs, options that cannot work.
 void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
     if (inputs.empty()) usage_error("inputs", "no input given: nothing to mesh");
@@ -248,6 +222,8 @@ std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& input
     if (o.threads < 0) usage_error("threads", "the thread count must be 0 (all cores) or more");
     return formats;
 }
+
+namespace {
 
 // The union of the survey's files' scanned bounds (a first pass over every record), in the
 // survey's CRS. With
@@ -308,32 +284,31 @@ void add_placement_notes(const std::vector<OutputRequest>& outputs, const std::o
                 (crs ? "its coordinate system is not identified" : "the input declares no coordinate system"));
 }
 
-// Reads the inputs and sums their points into `a.grid`; fills the read's fields of `r`, with
-// the outputs' placement notes when `note_outputs`.
-void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
-                       BuildObserver& watch, Accumulation& a, RunReport& r) {
-    const auto start = std::chrono::steady_clock::now();
-    AccumulateOptions accumulate;
+} // namespace
+
+SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptions& o, RunReport& r) {
+    SurveyStart start;
+    AccumulateOptions& accumulate = start.accumulate;
     accumulate.grid = o.grid;
     accumulate.bounds = o.bounds;
     accumulate.slice_bytes = o.slice_bytes;
     accumulate.max_memory = o.max_memory;
     // The headers first: the CRS, the frame, the bounds. One input is opened once (standard input
     // too); several each twice, header first.
-    std::unique_ptr<LasReader> single;
     SurveyOptions survey_options;
     survey_options.skip_bad = o.skip_bad_inputs;
     survey_options.check_bounds = !o.bounds && !o.scan_bounds;
     survey_options.crs = o.crs;
     if (inputs.size() == 1) {
         if (o.scan_bounds) check_rereadable(inputs.front());
-        single = std::make_unique<LasReader>(inputs.front());
+        start.single = std::make_unique<LasReader>(inputs.front());
         // An empty mesh is no use and Draco cannot encode one: say so before any device work.
-        if (single->header().point_count == 0)
-            throw_input_error(single->stream().name(),
+        if (start.single->header().point_count == 0)
+            throw_input_error(start.single->stream().name(),
                               "the header promises no point records (point count 0): nothing to mesh");
     }
-    Survey survey = read_survey(inputs, survey_options, single.get());
+    start.survey = read_survey(inputs, survey_options, start.single.get());
+    Survey& survey = start.survey;
     if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
     if (survey.header.point_count == 0)
         throw Error(ErrorKind::input, "the headers of the " + std::to_string(survey.files.size()) +
@@ -344,50 +319,17 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
         if (survey.crs->identified()) r.crs_recorded = crs_for_outputs(*survey.crs);
         if (survey.crs->unit_metres > 0) r.unit = survey.crs->unit;
     }
-    ComputeDevice device(o.device);
-    r.device = device.info().name;
-    accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
-    a.memory_in_use = accumulate.memory_in_use;
-    CellGrid& grid = a.grid;
-    bool header_color = false;
-    for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
-        SurveyReader reader(survey, single.get());
-        const LasHeader& header = reader.header();
-        r.input = reader.name();
-        watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
-        if (single && !survey.files.front().transform)
-            watch.detail("reading        " + r.input + ": LAS " + version_string(header) + ", point format " +
-                         std::to_string(header.point_format) + ", " + std::to_string(header.point_count) +
-                         " points promised");
-        else
-            watch.detail("reading        " + r.input + ": " + std::to_string(header.point_count) +
-                         " points promised, in point format " + std::to_string(header.point_format) + ", scale " +
-                         shortest(header.scale[0]) + " " + shortest(header.scale[1]) + " " + shortest(header.scale[2]) +
-                         ", offset " + shortest(header.offset[0]) + " " + shortest(header.offset[1]) + " " +
-                         shortest(header.offset[2]));
-        watch.detail("device         " + r.device + " (" + device.info().platform + "), " +
-                     megabytes(device.info().global_memory) + " memory, largest buffer " +
-                     megabytes(device.info().max_alloc));
-        accumulate.on_slice = [&](std::uint64_t points) {
-            watch.points_read(points, header.point_count, reader.bytes_read(), reader.bytes_total());
-        };
-        try {
-            grid = accumulate_cells(reader, device, accumulate);
-        } catch (const Error& e) {
-            if (single || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
-            if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
-            survey = survey_without(survey, *reader.failed_file(), e.what());
-            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
-            continue;
-        }
-        r.warnings.insert(r.warnings.end(), reader.warnings().begin(), reader.warnings().end());
-        header_color = has_color(header);
-        break;
-    }
+    return start;
+}
+
+void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
+                 bool note_outputs, const BuildOptions& o, double seconds, BuildObserver& watch, Accumulation& a,
+                 RunReport& r) {
+    r.warnings.insert(r.warnings.end(), reader_warnings.begin(), reader_warnings.end());
     r.input_files = survey.files.size();
     for (const SkippedInput& skipped : survey.skipped) r.skipped_inputs.push_back(skipped.reason);
     r.grid_reason = grid.grid_reason;
-    r.read_accumulate = seconds_since(start);
+    r.read_accumulate = seconds;
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
     a.fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
     r.occupied_cells = grid.occupied_cells();
@@ -395,7 +337,7 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
     r.host_grid_bytes = grid.host_bytes();
-    if (header_color && !grid.has_color())
+    if (has_color(survey.header) && !grid.has_color())
         r.warnings.push_back("note: " + r.input + ": the colour of every point is 0 (black): the mesh has no colour");
     if (double(r.median_count) > too_coarse_points_per_cell)
         r.warnings.push_back("warning: the grid (" + std::to_string(r.grid.dims[0]) + " x " +
@@ -408,8 +350,63 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
     watch.stage_ended(BuildStage::read_accumulate, r);
     watch.detail("accumulated    " + std::to_string(grid.points_read) + " points into " + megabytes(r.pool_bytes) +
                  " of bricks in " + two_digits(r.read_accumulate) + " s");
-
     a.crs = survey.crs;
+}
+
+std::string reading_line(const SurveyReader& reader, bool single_untransformed) {
+    const LasHeader& header = reader.header();
+    if (single_untransformed)
+        return "reading        " + reader.name() + ": LAS " + version_string(header) + ", point format " +
+               std::to_string(header.point_format) + ", " + std::to_string(header.point_count) + " points promised";
+    return "reading        " + reader.name() + ": " + std::to_string(header.point_count) +
+           " points promised, in point format " + std::to_string(header.point_format) + ", scale " +
+           shortest(header.scale[0]) + " " + shortest(header.scale[1]) + " " + shortest(header.scale[2]) + ", offset " +
+           shortest(header.offset[0]) + " " + shortest(header.offset[1]) + " " + shortest(header.offset[2]);
+}
+
+std::string device_line(const ComputeDevice& device) {
+    return "device         " + device.info().name + " (" + device.info().platform + "), " +
+           megabytes(device.info().global_memory) + " memory, largest buffer " + megabytes(device.info().max_alloc);
+}
+
+// Reads the inputs and sums their points into `a.grid`; fills the read's fields of `r`, with
+// the outputs' placement notes when `note_outputs`.
+void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
+                       BuildObserver& watch, Accumulation& a, RunReport& r) {
+    const auto start = std::chrono::steady_clock::now();
+    SurveyStart opened = open_survey(inputs, o, r);
+    Survey& survey = opened.survey;
+    AccumulateOptions& accumulate = opened.accumulate;
+    LasReader* single = opened.single.get();
+    ComputeDevice device(o.device);
+    r.device = device.info().name;
+    accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
+    a.memory_in_use = accumulate.memory_in_use;
+    CellGrid& grid = a.grid;
+    std::vector<std::string> reader_warnings;
+    for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
+        SurveyReader reader(survey, single);
+        const LasHeader& header = reader.header();
+        r.input = reader.name();
+        watch.stage_started(BuildStage::read_accumulate, "reading " + r.input);
+        watch.detail(reading_line(reader, single && !survey.files.front().transform));
+        watch.detail(device_line(device));
+        accumulate.on_slice = [&](std::uint64_t points) {
+            watch.points_read(points, header.point_count, reader.bytes_read(), reader.bytes_total());
+        };
+        try {
+            grid = accumulate_cells(reader, device, accumulate);
+        } catch (const Error& e) {
+            if (single || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
+            if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            survey = survey_without(survey, *reader.failed_file(), e.what());
+            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
+            continue;
+        }
+        reader_warnings = reader.warnings();
+        break;
+    }
+    report_grid(grid, survey, reader_warnings, note_outputs, o, seconds_since(start), watch, a, r);
 }
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
@@ -568,6 +565,8 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     if (o.keep_mesh) result.mesh = std::move(mesh);
     return result;
 }
+
+namespace {
 
 // Whether two BuildOptions read the same: the fields accumulate_inputs takes.
 bool same_read_options(const BuildOptions& a, const BuildOptions& b) {

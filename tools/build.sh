@@ -28,6 +28,8 @@ test_packages=(
   clang-14 libclang-rt-14-dev clang-format-14
   # the browser test opens tilesets in CesiumJS and three.js in headless Chromium
   chromium
+  # the array-job test runs the tiles on a real single-node Slurm (tools/slurm_local.sh)
+  slurmctld slurmd slurm-client munge
 )
 # --demo: what the demo needs and only the targets named (lasmesh, lasgen), so a first run shows a
 # mesh after building two programs, not the test suite.

@@ -13,6 +13,7 @@
 #include "option_parsing.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
+#include "tile_commands.hpp"
 #include "view_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
                "  lasmesh deck.las -o deck.ply --iso 8              fill only cells with more than 8 points\n"
                "  lasmesh info --scan deck.las                      header facts, and the real bounds\n"
                "  lasmesh compare deck.ply deck.las --heatmap d.ply how far the mesh is from the points\n"
+               "  lasmesh plan scans/*.laz -o site.plan.json        a survey over many machines: plan, tile, merge\n"
                "\n"
                "Exit codes: 0 success, 1 usage, 2 bad input, 3 OpenCL device, 4 output, 5 internal error.\n"
                "More: man lasmesh, and docs/guide.md.");
@@ -89,6 +91,13 @@ int main(int argc, char** argv) {
     lasmesh::cli::ViewOptions view;
     CLI::App* view_command = lasmesh::cli::add_view_command(app, view);
 
+    lasmesh::cli::PlanOptions plan;
+    CLI::App* plan_command = lasmesh::cli::add_plan_command(app, plan);
+    lasmesh::cli::TileOptions tile;
+    CLI::App* tile_command = lasmesh::cli::add_tile_command(app, tile);
+    lasmesh::cli::MergeOptions merge;
+    CLI::App* merge_command = lasmesh::cli::add_merge_command(app, merge);
+
     CLI::App* devices_command = app.add_subcommand("devices", "List the OpenCL devices with their memory");
     devices_command->footer(
         "Examples:\n  lasmesh devices\n  lasmesh deck.las -o deck.glb --device 1      the second device listed\n"
@@ -114,7 +123,7 @@ int main(int argc, char** argv) {
     try {
         // Every command but info compiles the kernels (devices lists devices, whose platforms it
         // opens, but compiles nothing).
-        if (!*info_command && !*devices_command) {
+        if (!*info_command && !*devices_command && !*plan_command) {
             if (const std::string problem = kernel_cache.problem(); !problem.empty())
                 throw lasmesh::Error(lasmesh::ErrorKind::output, problem);
         }
@@ -123,6 +132,12 @@ int main(int argc, char** argv) {
         if (*compare_command) lasmesh::cli::run_compare(compare, std::cout, std::cerr);
         if (*devices_command) lasmesh::cli::run_devices(std::cout);
         if (*view_command) lasmesh::cli::run_view(view, std::cout, std::cerr);
+        if (*plan_command) lasmesh::cli::run_plan(plan, std::cout);
+        if (*tile_command) lasmesh::cli::run_tile(tile, std::cerr);
+        if (*merge_command) {
+            merge.mesh.progress = lasmesh::cli::stderr_is_terminal();
+            lasmesh::cli::run_merge(merge, std::cerr);
+        }
         if (app.get_subcommands().empty()) {
             if (mesh.inputs.empty() && mesh.inputs_list.empty()) {
                 std::cerr << app.help();

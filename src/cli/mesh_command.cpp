@@ -39,29 +39,14 @@ CLI::Validator draco_bits_check() {
 
 } // namespace
 
-void add_mesh_options(CLI::App& app, MeshOptions& o) {
-    app.add_option("INPUT", o.inputs,
-                   "LAS or LAZ files (gzip, bzip2, xz, zstd recognised), meshed as one survey; or - for standard "
-                   "input, alone")
-        ->type_name("FILE...");
-    app.add_option("--inputs", o.inputs_list,
-                   "Also read the inputs listed in this file, one path a line (relative to the list's folder; "
-                   "blank lines and lines starting with # skipped); - reads the list from standard input")
-        ->type_name("LIST");
-    app.add_option("--crs", o.crs,
-                   "Mesh in this coordinate system (EPSG:CODE or a WKT); inputs in others are transformed with "
-                   "PROJ (default: the CRS most inputs declare, longitude/latitude projected to the UTM zone of "
-                   "the data's centre)")
-        ->type_name("CRS");
-    app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
-                 "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
+void add_meshing_options(CLI::App& app, MeshOptions& o, bool with_grid) {
     app.add_option("-o,--output", o.outputs,
                    "Output mesh, repeatable; the extension sets the format: .ply (binary; --ascii for text), "
                    ".drc (Draco), .glb (glTF 2.0 binary; see --glb-compression), .png (a picture: see --preview), "
                    ".html (a page showing the mesh in a web browser, offline, with measuring), "
                    ".json (a 3D Tiles tileset of .glb tiles, levels of detail)")
         ->type_name("FILE");
-    add_grid_options(app, o.grid);
+    if (with_grid) add_grid_options(app, o.grid);
     app.add_option("--iso", o.iso, "Points per cell at the surface (cells with more are inside), or auto")
         ->type_name("N|auto")
         ->capture_default_str();
@@ -117,6 +102,25 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
         ->type_name("FILE.png");
     app.add_flag("-q,--quiet", o.quiet, "No progress line and no summary; errors only");
     app.add_flag("-v,--verbose", o.verbose, "Details of each stage as it ends");
+}
+
+void add_mesh_options(CLI::App& app, MeshOptions& o) {
+    app.add_option("INPUT", o.inputs,
+                   "LAS or LAZ files (gzip, bzip2, xz, zstd recognised), meshed as one survey; or - for standard "
+                   "input, alone")
+        ->type_name("FILE...");
+    app.add_option("--inputs", o.inputs_list,
+                   "Also read the inputs listed in this file, one path a line (relative to the list's folder; "
+                   "blank lines and lines starting with # skipped); - reads the list from standard input")
+        ->type_name("LIST");
+    app.add_option("--crs", o.crs,
+                   "Mesh in this coordinate system (EPSG:CODE or a WKT); inputs in others are transformed with "
+                   "PROJ (default: the CRS most inputs declare, longitude/latitude projected to the UTM zone of "
+                   "the data's centre)")
+        ->type_name("CRS");
+    app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
+                 "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
+    add_meshing_options(app, o, true);
 }
 
 BuildOptions build_options(const MeshOptions& o, bool need_output) {
@@ -179,8 +183,9 @@ std::vector<std::string> all_inputs(const MeshOptions& o) {
     return inputs;
 }
 
-void run_mesh(const MeshOptions& o, std::ostream& summary) {
-    BuildOptions options = build_options(o);
+void run_with_summary(const MeshOptions& o, BuildOptions options,
+                      const std::function<BuildResult(const BuildOptions&, BuildObserver&)>& run,
+                      std::ostream& summary) {
     SummaryContext context;
     context.min_piece_text = o.min_piece;
     context.relative_min_piece = options.min_piece.relative;
@@ -193,10 +198,18 @@ void run_mesh(const MeshOptions& o, std::ostream& summary) {
     });
     options.keep_mesh = context.any_draco && !o.quiet; // the Draco line reports bits and step of the mesh
     MeshObserver observer(summary, o.progress, o.verbose, o.quiet);
-    const BuildResult result = build_mesh(all_inputs(o), options, &observer);
+    const BuildResult result = run(options, observer);
     observer.clear();
     context.mesh = result.mesh ? &*result.mesh : nullptr;
     if (!o.quiet) print_summary(result.report, context, summary);
+}
+
+void run_mesh(const MeshOptions& o, std::ostream& summary) {
+    const std::vector<std::string> inputs = all_inputs(o);
+    run_with_summary(
+        o, build_options(o),
+        [&](const BuildOptions& options, BuildObserver& observer) { return build_mesh(inputs, options, &observer); },
+        summary);
 }
 
 } // namespace lasmesh::cli

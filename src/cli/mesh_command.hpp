@@ -6,6 +6,7 @@
 #include "grid_options.hpp"
 #include "lasmesh/build_mesh.hpp"
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -37,11 +38,18 @@ struct MeshOptions {
 };
 
 void add_mesh_options(CLI::App& app, MeshOptions& options);
+// The options after the inputs': -o, the grid's (when `with_grid`), then --iso to --verbose.
+void add_meshing_options(CLI::App& app, MeshOptions& options, bool with_grid);
 // The option text converted into the library's options, which the library checks (before
 // reading); throws Error (usage) without an output when `need_output`.
 BuildOptions build_options(const MeshOptions& options, bool need_output = true);
 // The inputs named on the command line, then those of --inputs LIST.
 std::vector<std::string> all_inputs(const MeshOptions& options);
+// Calls `run` with `options` and an observer drawing progress, then prints the summary as the main
+// job does (merge prints it too).
+void run_with_summary(const MeshOptions& o, BuildOptions options,
+                      const std::function<BuildResult(const BuildOptions&, BuildObserver&)>& run,
+                      std::ostream& summary);
 // Runs the pipeline; the summary goes to `summary` (stderr).
 void run_mesh(const MeshOptions& options, std::ostream& summary);
 

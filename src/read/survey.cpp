@@ -359,7 +359,7 @@ void SurveyReader::open_next() {
 
 void SurveyReader::finish_current() {
     std::string warning = decoded_ ? std::move(decoded_->warning) : trailing_warning(*current_);
-    if (!warning.empty()) warnings_.push_back(std::move(warning));
+    if (!warning.empty()) warnings_.push_back(std::move(warning)), warning_files_.push_back(next_ - 1);
     bytes_done_ += survey_->files[next_ - 1].bytes;
     if (decoded_) std::vector<std::byte>().swap(decoded_->records);
     decoded_ = nullptr;
@@ -457,6 +457,7 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
                 }
             }
             convert_positions(out, got, length, file);
+            if (seen_) seen_(next_ - 1, out, got);
             total += got;
             records_read_ += got;
             if (got == 0 || current_left() == 0) finish_current();

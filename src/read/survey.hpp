@@ -23,6 +23,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -118,6 +119,12 @@ class SurveyReader {
     const std::vector<std::string>& warnings() const { return warnings_; }
     // The index in the survey's files of the file whose read threw; nullopt for a single input.
     std::optional<std::size_t> failed_file() const { return failed_; }
+    // The file each of warnings() is about (a survey's reader only).
+    const std::vector<std::size_t>& warning_files() const { return warning_files_; }
+    // Called with each run of records of one file as it is handed out, in the survey's frame and
+    // layout (a survey's reader only): a tile job checks where they lie (tile_job.cpp).
+    using RecordsSeen = std::function<void(std::size_t file, const std::byte* records, std::size_t count)>;
+    void on_records(RecordsSeen seen) { seen_ = std::move(seen); }
 
   private:
     void open_next();
@@ -144,7 +151,9 @@ class SurveyReader {
     std::uint64_t records_read_ = 0, bytes_done_ = 0;
     std::vector<std::byte> scratch_; // a file's records before they are brought into the layout
     std::vector<std::string> warnings_;
+    std::vector<std::size_t> warning_files_;
     std::optional<std::size_t> failed_;
+    RecordsSeen seen_;
 };
 
 } // namespace lasmesh

@@ -34,8 +34,9 @@ struct Options {
     std::vector<int> color;
     std::string output = "-";
     std::string order = "random";
-    std::uint32_t split = 1; // write the points into this many files
-    bool split_vary = false; // each file of a split its own offset, scale and point format
+    std::uint32_t split = 1;    // write the points into this many files
+    bool split_vary = false;    // each file of a split its own offset, scale and point format
+    std::uint32_t split_xy = 0; // write the points into N x N files by their x and y
 };
 
 // A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
@@ -102,6 +103,72 @@ void write_points(const Options& o, const lasgen::Scene& scene, const lasgen::La
         throw std::runtime_error("cannot write " + name + ": " + std::strerror(errno));
 }
 
+// The points into n x n files by where they lie in x and y (a survey delivered in map tiles), each
+// file's header bounds those of its own points: NAME-X_Y.las. Every file is open at once; each
+// header is written again at the end with its count and bounds.
+void write_points_by_area(const Options& o, const lasgen::Scene& scene, const lasgen::LasLayout& layout,
+                          const std::string& output) {
+    const std::uint32_t n = o.split_xy;
+    const std::string stem = output.substr(0, output.rfind('.')), ext = output.substr(stem.size());
+    struct Part {
+        std::FILE* file = nullptr;
+        std::string name;
+        std::uint64_t count = 0;
+        lasmesh::Vec3 min{INFINITY, INFINITY, INFINITY}, max{-INFINITY, -INFINITY, -INFINITY};
+    };
+    std::vector<Part> parts(std::size_t{n} * n);
+    const std::string description =
+        "scene=" + scene.name + " points=" + std::to_string(o.points) + " seed=" + std::to_string(o.seed);
+    const auto head_of = [&](const Part& part) {
+        lasmesh::Vec3 min = part.min, max = part.max;
+        for (int a = 0; a < 3; ++a) {
+            if (part.count == 0) min[a] = max[a] = scene.min[a];
+            min[a] -= o.scale, max[a] += o.scale;
+        }
+        return lasgen::las_file_head(layout, part.count, min, max, description);
+    };
+    for (std::uint32_t y = 0; y < n; ++y)
+        for (std::uint32_t x = 0; x < n; ++x) {
+            Part& part = parts[y * n + x];
+            part.name = stem + "-" + std::to_string(x) + "_" + std::to_string(y) + ext;
+            part.file = std::fopen(part.name.c_str(), "wb");
+            if (!part.file) throw std::runtime_error("cannot create " + part.name + ": " + std::strerror(errno));
+            const auto head = head_of(part);
+            write_all(part.file, head.data(), head.size(), part.name);
+        }
+    const std::size_t length = lasgen::record_length(layout);
+    const std::uint64_t batch = std::uint64_t{1} << 18;
+    std::vector<lasgen::GeneratedPoint> points(batch);
+    std::vector<std::byte> record(length);
+    for (std::uint64_t first = 0; first < o.points; first += batch) {
+        const std::size_t count = static_cast<std::size_t>(std::min(batch, o.points - first));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i)
+                points[i] = lasgen::generate_point(scene, o.seed, first + i);
+        });
+        for (std::size_t i = 0; i < count; ++i) {
+            const lasmesh::Vec3& p = points[i].position;
+            std::uint32_t at[2];
+            for (int a = 0; a < 2; ++a)
+                at[a] = static_cast<std::uint32_t>(std::clamp(
+                    std::floor((p[a] - scene.min[a]) / (scene.max[a] - scene.min[a]) * n), 0.0, double(n - 1)));
+            Part& part = parts[at[1] * n + at[0]];
+            lasgen::encode_record(layout, points[i], first + i, record.data());
+            write_all(part.file, record.data(), length, part.name);
+            ++part.count;
+            for (int a = 0; a < 3; ++a)
+                part.min[a] = std::min(part.min[a], p[a]), part.max[a] = std::max(part.max[a], p[a]);
+        }
+    }
+    for (Part& part : parts) {
+        const auto head = head_of(part);
+        if (std::fseek(part.file, 0, SEEK_SET) != 0) throw std::runtime_error("cannot seek in " + part.name);
+        write_all(part.file, head.data(), head.size(), part.name);
+        if (std::fclose(part.file) != 0)
+            throw std::runtime_error("cannot write " + part.name + ": " + std::strerror(errno));
+    }
+}
+
 void generate(const Options& o) {
     lasgen::SceneOptions scene_options;
     scene_options.kind = lasgen::parse_scene_kind(o.scene);
@@ -125,6 +192,11 @@ void generate(const Options& o) {
     layout.scale = {o.scale, o.scale, o.scale};
     layout.epsg = o.epsg;
     for (int a = 0; a < 3; ++a) layout.offset[a] = std::floor(scene.min[a]);
+    if (o.split_xy > 0) {
+        if (o.output == "-") throw std::invalid_argument("--split-xy writes files: give -o NAME.las");
+        write_points_by_area(o, scene, layout, o.output);
+        return;
+    }
     if (o.split <= 1) {
         write_points(o, scene, layout, 0, o.points, o.output);
         return;
@@ -181,6 +253,10 @@ int main(int argc, char** argv) {
                    "Write the points into N files NAME-0.las ... (a survey of several files), together "
                    "exactly the points of the single file")
         ->check(CLI::Range(1, 100000));
+    app.add_option("--split-xy", o.split_xy,
+                   "Write the points into N x N files NAME-X_Y.las by where they lie in x and y (map tiles), "
+                   "each with its own points' bounds")
+        ->check(CLI::Range(1, 64));
     app.add_flag("--split-vary", o.split_vary,
                  "Each file of --split its own offset (whole metres apart), odd files half the scale, every "
                  "third file in point format 2 or 7");

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: Apache-2.0
+// The steps of build_mesh that a run split over machines (tile_plan.hpp) takes apart: the
+// survey's headers opened, the grid reported on, the grid meshed and written. Internal: the
+// library's users call build_mesh, or plan, run_tile and merge_tiles.
+#pragma once
+
+#include "grid/cell_sums.hpp"
+#include "lasmesh/build_mesh.hpp"
+#include "read/crs.hpp"
+#include "read/survey.hpp"
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lasmesh {
+
+// What reading leaves for meshing: the grid, and what the outputs need of the survey.
+struct Accumulation {
+    BuildOptions read_options; // the options it was read with (their read fields count)
+    CellGrid grid;
+    std::optional<CrsInfo> crs;
+    std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
+    std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
+
+    // The last surface extracted, small pieces removed, before simplification: a new mesh that
+    // changes only the simplification (or the normals, or the outputs) starts from it instead of
+    // extracting again. Kept by accumulate_inputs' accumulations only.
+    struct Surface {
+        double iso = 0;
+        SurfaceKind surface{};
+        VertexPlacement placement{};
+        MinPiece min_piece;
+        std::size_t extracted = 0; // triangles before small pieces were removed
+        PieceCount pieces;
+        Mesh mesh;
+        bool same_options(double i, const BuildOptions& o) const {
+            return iso == i && surface == o.surface && placement == o.placement &&
+                   min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative;
+        }
+    };
+    bool keeps_surface = false;
+    mutable std::mutex surface_mutex;
+    mutable std::shared_ptr<const Surface> surface;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point start);
+// Resident memory now (Linux: /proc/self/statm); 0 where unknown.
+std::uint64_t resident_bytes();
+
+// The checks on what reading takes: inputs, options that cannot work.
+void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o);
+// The checks on what meshing and writing take; returns each output's format.
+std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& inputs, const BuildOptions& o);
+
+// The survey's headers read: the CRS, the frame, the bounds, and how to accumulate them.
+struct SurveyStart {
+    Survey survey;
+    std::unique_ptr<LasReader> single; // one input: open already (standard input too)
+    AccumulateOptions accumulate;      // the grid, bounds, slices and memory of `o`
+};
+// Fills the CRS fields and the survey's notes of `r`. Throws Error as build_mesh does.
+SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptions& o, RunReport& r);
+
+// The lines --verbose shows as the read starts.
+std::string reading_line(const SurveyReader& reader, bool single_untransformed);
+std::string device_line(const ComputeDevice& device);
+
+// The read's fields of `r` from the accumulated grid (r.input and r.device set before), and
+// what `a` keeps of the survey; the outputs' placement notes when `note_outputs`.
+void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
+                 bool note_outputs, const BuildOptions& o, double seconds, BuildObserver& watch, Accumulation& a,
+                 RunReport& r);
+
+// Reads the inputs and sums their points into `a.grid`, then report_grid.
+void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
+                       BuildObserver& watch, Accumulation& a, RunReport& r);
+
+// Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
+// `r` holds the read's fields, `seconds_before` the time the read took.
+BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
+                      const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
+                      double seconds_before);
+
+} // namespace lasmesh

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "tile_commands.hpp"
+
+#include "lasmesh/error.hpp"
+#include "lasmesh/tile_plan.hpp"
+#include "mesh_observer.hpp"
+#include "number_text.hpp"
+#include "option_parsing.hpp"
+
+#include <charconv>
+#include <cstdlib>
+
+namespace lasmesh::cli {
+
+CLI::App* add_plan_command(CLI::App& app, PlanOptions& o) {
+    CLI::App* plan = app.add_subcommand(
+        "plan", "Plan a survey's meshing over many machines: read the inputs' headers, fix the grid, cut it into "
+                "tiles, and say how to run them (lasmesh tile) and join them (lasmesh merge)");
+    plan->footer("Examples:\n"
+                 "  lasmesh plan scans/*.laz --tile 250 -o site.plan.json\n"
+                 "  sbatch --array=0-15 lasmesh-tile.sbatch site.plan.json   (deploy/slurm/ in the sources)\n"
+                 "  seq 0 15 | xargs -P 4 -I K lasmesh tile site.plan.json --index K\n"
+                 "  lasmesh merge site.plan.json -o site/tileset.json");
+    plan->add_option("INPUT", o.survey.inputs, "LAS or LAZ files (gzip, bzip2, xz, zstd recognised), one survey")
+        ->type_name("FILE...");
+    plan->add_option("--inputs", o.survey.inputs_list,
+                     "Also the inputs listed in this file, one path a line (relative to the list's folder)")
+        ->type_name("LIST");
+    plan->add_option("--crs", o.survey.crs, "Mesh in this coordinate system (EPSG:CODE or a WKT); as for meshing")
+        ->type_name("CRS");
+    plan->add_option("--tile", o.tile,
+                     "A tile's edge in x and y, in the CRS's unit (rounded up to 4 cells); default: about 20 "
+                     "million points a tile")
+        ->type_name("SIZE");
+    plan->add_option("-o,--output", o.output, "The plan (JSON); its tiles' cells go to a folder beside it")
+        ->type_name("PLAN.json")
+        ->required();
+    add_grid_options(*plan, o.survey.grid);
+    return plan;
+}
+
+CLI::App* add_tile_command(CLI::App& app, TileOptions& o) {
+    CLI::App* tile = app.add_subcommand(
+        "tile", "Read the inputs of one tile of a plan and write its cells' sums (a task of an array job)");
+    tile->footer("Examples:\n"
+                 "  lasmesh tile site.plan.json --index 3\n"
+                 "  lasmesh tile site.plan.json        in a Slurm array task or a Kubernetes Indexed Job");
+    tile->add_option("PLAN", o.plan, "The plan (lasmesh plan wrote it)")->type_name("PLAN.json")->required();
+    tile->add_option("--index", o.index,
+                     "The tile, from 0; default: SLURM_ARRAY_TASK_ID, else JOB_COMPLETION_INDEX (Kubernetes)")
+        ->type_name("K");
+    tile->add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name")
+        ->capture_default_str();
+    tile->add_option("--threads", o.threads, "Threads for LAZ decoding, 1 to 1024 (default: all cores)")
+        ->type_name("N")
+        ->check(whole_number(1, 1024));
+    tile->add_flag("-q,--quiet", o.quiet, "Errors only");
+    return tile;
+}
+
+CLI::App* add_merge_command(CLI::App& app, MergeOptions& o) {
+    CLI::App* merge = app.add_subcommand(
+        "merge", "Join the tiles of a plan into the grid one machine would have read, and mesh it: the same "
+                 "outputs as meshing the inputs here, byte for byte");
+    merge->footer("Examples:\n"
+                  "  lasmesh merge site.plan.json -o site/tileset.json\n"
+                  "  lasmesh merge site.plan.json -o site.glb --simplify 0.25cell");
+    merge->add_option("PLAN", o.plan, "The plan whose tiles have all run")->type_name("PLAN.json")->required();
+    add_meshing_options(*merge, o.mesh, false);
+    return merge;
+}
+
+void run_plan(const PlanOptions& o, std::ostream& out) {
+    BuildOptions options;
+    const AccumulateOptions accumulate = accumulate_options(o.survey.grid);
+    options.grid = accumulate.grid;
+    options.bounds = accumulate.bounds;
+    options.scan_bounds = o.survey.grid.scan_bounds;
+    options.crs = o.survey.crs;
+    TilePlan plan = plan_tiles(all_inputs(o.survey), options, o.tile);
+    write_plan(plan, o.output);
+    std::uint64_t points = 0;
+    for (const PlannedInput& input : plan.inputs) points += input.points;
+    const std::string unit = plan.unit.empty() ? "" : " " + plan.unit;
+    const std::string last = std::to_string(plan.tiles.size() - 1);
+    const std::string& name = o.output;
+    out << name << ": " << plan.tiles.size() << " tiles of " << four_digits(plan.tile_size) << " x "
+        << four_digits(plan.tile_size) << unit << " (" << plan.tile_cells << " x " << plan.tile_cells << " cells of "
+        << four_digits(plan.grid.cell_size) << "), " << points << " points in " << plan.inputs.size() << " inputs\n"
+        << "run every tile, K from 0 to " << last << ", on a cluster or here:\n"
+        << "  sbatch --array=0-" << last << " lasmesh-tile.sbatch " << name << "\n"
+        << "  seq 0 " << last << " | xargs -P 4 -I K lasmesh tile " << name << " --index K\n"
+        << "then join them:\n"
+        << "  lasmesh merge " << name << " -o tileset.json\n";
+}
+
+std::size_t tile_index(const std::optional<std::size_t>& given, const char* slurm, const char* kubernetes) {
+    if (given) return *given;
+    for (const auto& [name, value] : {std::pair{"SLURM_ARRAY_TASK_ID", slurm}, {"JOB_COMPLETION_INDEX", kubernetes}}) {
+        if (!value) continue;
+        const std::string text = value;
+        std::size_t index = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+        if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+            throw Error(ErrorKind::usage, std::string(name) + " is \"" + text + "\", not a tile number: give --index K",
+                        "index");
+        return index;
+    }
+    throw Error(ErrorKind::usage,
+                "which tile? give --index K (or run it as a Slurm array task or a Kubernetes "
+                "Indexed Job, which say it)",
+                "index");
+}
+
+void run_tile(const TileOptions& o, std::ostream& log) {
+    const TilePlan plan = read_plan(o.plan);
+    BuildOptions options;
+    options.device = o.device;
+    options.threads = o.threads;
+    const std::size_t index =
+        tile_index(o.index, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("JOB_COMPLETION_INDEX"));
+    const TileReport report = lasmesh::run_tile(plan, index, options);
+    if (!o.quiet)
+        log << "tile " << report.index << " of " << plan.tiles.size() << ": " << report.points_read
+            << " points read from " << report.inputs_read << " inputs, " << report.points_in_tile << " in its "
+            << report.occupied_cells << " cells; wrote " << report.path << " (" << megabytes(report.bytes) << ") in "
+            << two_digits(report.seconds) << " s, peak memory " << megabytes(report.peak_rss_bytes) << "\n";
+}
+
+void run_merge(const MergeOptions& o, std::ostream& summary) {
+    const TilePlan plan = read_plan(o.plan);
+    run_with_summary(
+        o.mesh, build_options(o.mesh),
+        [&](const BuildOptions& options, BuildObserver& observer) { return merge_tiles(plan, options, &observer); },
+        summary);
+}
+
+} // namespace lasmesh::cli

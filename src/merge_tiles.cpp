@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: Apache-2.0
+// merge_tiles: the tiles' cell sums added into the plan's grid (the tiles partition its cells,
+// so each cell comes from one tile, whole), every input's points accounted for, then the grid
+// meshed as build_mesh meshes the grid it accumulates itself: the same outputs, byte for byte.
+#include "lasmesh/tile_plan.hpp"
+
+#include "build_steps.hpp"
+#include "grid/auto_grid.hpp"
+#include "grid/axis_cells.hpp"
+#include "grid/tile_cells.hpp"
+#include "lasmesh/error.hpp"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <map>
+
+namespace lasmesh {
+
+namespace {
+
+// Tile numbers as a Slurm array spells them: 2,5,9-12.
+std::string index_list(const std::vector<std::size_t>& indices) {
+    std::string text;
+    for (std::size_t i = 0; i < indices.size();) {
+        std::size_t j = i;
+        while (j + 1 < indices.size() && indices[j + 1] == indices[j] + 1) ++j;
+        text += (text.empty() ? "" : ",") + std::to_string(indices[i]) +
+                (j > i ? "-" + std::to_string(indices[j]) : std::string());
+        i = j + 1;
+    }
+    return text;
+}
+
+} // namespace
+
+BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, BuildObserver* observer) {
+    const auto start = std::chrono::steady_clock::now();
+    BuildObserver silent;
+    BuildObserver& watch = observer ? *observer : silent;
+    std::vector<std::string> paths;
+    for (const PlannedInput& input : plan.inputs) paths.push_back(input.path);
+    BuildOptions o = options;
+    o.grid = plan.grid_request, o.bounds = plan.bounds, o.crs = plan.crs;
+    o.scan_bounds = false, o.skip_bad_inputs = false;
+    const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
+    std::optional<tbb::global_control> thread_limit;
+    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
+
+    // Every tile first: all that are missing or damaged are named together, before any meshing.
+    watch.stage_started(BuildStage::read_accumulate, "reading " + std::to_string(plan.tiles.size()) + " tiles");
+    std::vector<TileCells> tiles(plan.tiles.size());
+    std::vector<std::size_t> bad;
+    std::string reasons;
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
+        std::string problem;
+        try {
+            tiles[k] = read_tile_cells(tile_path(plan, k));
+            if (tiles[k].plan_hash != plan.hash || tiles[k].index != k)
+                problem = tile_path(plan, k) + ": from another plan, or another tile (written before the plan "
+                                               "changed?)";
+        } catch (const Error& e) {
+            problem = e.what();
+        }
+        if (!problem.empty()) {
+            bad.push_back(k);
+            if (bad.size() <= 5) reasons += "\n  " + problem;
+            tiles[k] = TileCells{};
+        }
+    }
+    if (!bad.empty())
+        throw Error(ErrorKind::input,
+                    std::to_string(bad.size()) + " of " + std::to_string(plan.tiles.size()) +
+                        " tiles missing or damaged: " + index_list(bad) + reasons + (bad.size() > 5 ? "\n  ..." : "") +
+                        "\nrun them again (lasmesh tile " + plan.path +
+                        " --index K, or sbatch --array=" + index_list(bad) + " ...), then merge",
+                    "tiles");
+
+    // The survey's headers, as one machine reads them: the frame, the CRS, the notes.
+    RunReport r;
+    SurveyStart opened = open_survey(paths, o, r);
+    const Survey& survey = opened.survey;
+    for (std::size_t i = 0; i < survey.files.size(); ++i)
+        if (survey.files[i].point_count != plan.inputs[i].points || survey.files[i].bytes != plan.inputs[i].bytes)
+            throw_input_error(survey.files[i].path,
+                              "changed since " + plan.path + " was written: plan again, and run every tile");
+    const LasHeader& header = survey.header;
+
+    CellGrid grid;
+    grid.spec = plan.grid;
+    for (int a = 0; a < 3; ++a) {
+        grid.axes[a] = axis_cells(plan.grid, a, header.scale[a], header.offset[a]);
+        grid.bricks[a] =
+            static_cast<std::uint32_t>((plan.grid.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
+    }
+    grid.scale = header.scale, grid.offset = header.offset;
+    // Bricks in ascending key order from every tile (the tiles hold disjoint bricks).
+    std::vector<std::tuple<std::uint64_t, std::uint32_t, std::uint32_t>> order; // key, tile, brick
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+        for (std::size_t b = 0; b < tiles[k].brick_keys.size(); ++b)
+            order.emplace_back(tiles[k].brick_keys[b], static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(b));
+        grid.color = grid.color || tiles[k].color;
+        grid.color_max_word = std::max(grid.color_max_word, tiles[k].color_max_word);
+    }
+    std::sort(order.begin(), order.end());
+    std::uint64_t in_cells = 0;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const auto [key, k, b] = order[i];
+        if (i > 0 && std::get<0>(order[i - 1]) == key)
+            throw_input_error(tile_path(plan, k), "holds a brick tile " + std::to_string(std::get<1>(order[i - 1])) +
+                                                      " holds too: the tiles do not belong to one plan");
+        grid.brick_keys.push_back(key);
+        grid.brick_masks.push_back(tiles[k].brick_masks[b]);
+        grid.brick_first.push_back(grid.cells.size());
+        const std::uint64_t first = tiles[k].brick_first[b];
+        const auto n = static_cast<std::uint64_t>(std::popcount(tiles[k].brick_masks[b]));
+        for (std::uint64_t c = 0; c < n; ++c) {
+            grid.cells.push_back(tiles[k].cells[first + c]);
+            in_cells += grid.cells.back().count;
+        }
+    }
+    grid.index_bricks();
+
+    // Every input's points: read by each tile that touches it (the same count each time), each
+    // point in the cells of one tile or outside the grid.
+    std::vector<std::optional<TileInputCount>> per_input(plan.inputs.size());
+    std::map<std::uint64_t, std::vector<std::string>> warnings; // per input, from the first tile to read it
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+        for (const TileInputCount& c : tiles[k].inputs) {
+            if (c.input >= per_input.size())
+                throw_input_error(tile_path(plan, k), "names input " + std::to_string(c.input) + ", not in the plan");
+            std::optional<TileInputCount>& seen = per_input[c.input];
+            if (seen && (seen->records != c.records || seen->outside != c.outside))
+                throw_input_error(plan.inputs[c.input].path,
+                                  "two tiles read it differently (" + std::to_string(seen->records) + " and " +
+                                      std::to_string(c.records) + " points): did it change while the tiles ran?");
+            if (!seen) {
+                seen = c;
+                for (const TileWarning& w : tiles[k].warnings)
+                    if (w.input == c.input) warnings[c.input].push_back(w.text);
+            }
+        }
+    }
+    for (std::size_t i = 0; i < per_input.size(); ++i) {
+        if (survey.files[i].point_count == 0) continue;
+        if (!per_input[i]) throw_input_error(plan.inputs[i].path, "no tile read it: the plan is damaged");
+        grid.points_read += per_input[i]->records;
+        grid.points_outside += per_input[i]->outside;
+    }
+    if (in_cells + grid.points_outside != grid.points_read)
+        throw Error(ErrorKind::input, "the tiles' cells hold " + std::to_string(in_cells) + " points and " +
+                                          std::to_string(grid.points_outside) +
+                                          " lie outside the grid, but the inputs "
+                                          "hold " +
+                                          std::to_string(grid.points_read) + ": the tiles do not belong to one plan");
+    std::vector<std::string> reader_warnings;
+    for (auto& [input, texts] : warnings) reader_warnings.insert(reader_warnings.end(), texts.begin(), texts.end());
+
+    if (plan.grid_request.kind == GridRequest::Kind::automatic) { // as accumulate_cells chooses
+        const std::string name =
+            paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
+        const GridChoice choice =
+            choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), name);
+        const std::string coarsened = coarsen_while_sparse(grid);
+        grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
+    }
+    r.input = paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
+    r.device = tiles.front().device;
+    Accumulation a;
+    a.memory_in_use = resident_bytes();
+    const double seconds = seconds_since(start);
+    report_grid(grid, survey, reader_warnings, true, o, seconds, watch, a, r);
+    return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds);
+}
+
+} // namespace lasmesh

@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: Apache-2.0
+// run_tile: one tile of a plan. The survey's headers are read as one machine reads them (the
+// same CRS, frame and layout, so the same raw integers and cells), then only the inputs planned
+// for the tile are accumulated into the plan's grid, and the tile's bricks kept. Each point read
+// is checked on the host: one in the grid but in a tile that does not read its file lies outside
+// its file's header bounds, and would be lost: the job stops, naming it.
+#include "lasmesh/tile_plan.hpp"
+
+#include "build_steps.hpp"
+#include "byte_order.hpp"
+#include "grid/axis_cells.hpp"
+#include "grid/tile_cells.hpp"
+#include "lasmesh/error.hpp"
+#include "number_text.hpp"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sys/resource.h>
+
+namespace lasmesh {
+
+namespace {
+
+// Where a raw position lies: outside the grid, or in a column and row of the tiling.
+struct TileLocator {
+    std::array<AxisCells, 3> axes;
+    std::array<std::vector<std::int64_t>, 2> tile_starts; // per x, y: each tile column's first raw value, then the end
+
+    TileLocator(const TilePlan& plan, const LasHeader& header) {
+        for (int a = 0; a < 3; ++a) axes[a] = axis_cells(plan.grid, a, header.scale[a], header.offset[a]);
+        for (int a = 0; a < 2; ++a) {
+            const std::vector<std::int64_t>& starts = axes[a].starts;
+            for (std::size_t i = 0; i + 1 < starts.size(); i += plan.tile_cells) tile_starts[a].push_back(starts[i]);
+            tile_starts[a].push_back(starts.back());
+        }
+    }
+    bool inside(const std::array<std::int64_t, 3>& raw) const {
+        for (int a = 0; a < 3; ++a)
+            if (raw[a] < axes[a].starts.front() || raw[a] >= axes[a].starts.back()) return false;
+        return true;
+    }
+    // The tile column (a = 0) or row (a = 1) of a raw value inside the grid.
+    std::uint32_t tile_of(int a, std::int64_t raw) const {
+        const std::vector<std::int64_t>& s = tile_starts[a];
+        return static_cast<std::uint32_t>(std::upper_bound(s.begin() + 1, s.end() - 1, raw) - (s.begin() + 1));
+    }
+};
+
+std::uint64_t peak_rss() {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;
+}
+
+} // namespace
+
+TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions& o, BuildObserver* observer) {
+    const auto start = std::chrono::steady_clock::now();
+    BuildObserver silent;
+    BuildObserver& watch = observer ? *observer : silent;
+    if (index >= plan.tiles.size())
+        throw Error(ErrorKind::usage,
+                    "tile " + std::to_string(index) + " is not in " + plan.path + ": its tiles are 0 to " +
+                        std::to_string(plan.tiles.size() - 1),
+                    "index");
+    std::optional<tbb::global_control> thread_limit;
+    if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
+    const PlannedTile& tile = plan.tiles[index];
+
+    // The whole survey's headers, as one machine reads them.
+    std::vector<std::string> paths;
+    for (const PlannedInput& input : plan.inputs) paths.push_back(input.path);
+    BuildOptions read = o;
+    read.grid = plan.grid_request, read.bounds = plan.bounds, read.crs = plan.crs;
+    read.scan_bounds = false, read.skip_bad_inputs = false;
+    RunReport r;
+    SurveyStart opened = open_survey(paths, read, r);
+    const Survey& survey = opened.survey;
+    for (std::size_t i = 0; i < survey.files.size(); ++i) {
+        const SurveyFile& file = survey.files[i];
+        const PlannedInput& planned = plan.inputs[i];
+        if (file.point_count != planned.points || file.bytes != planned.bytes)
+            throw_input_error(file.path, "changed since " + plan.path + " was written (" +
+                                             std::to_string(planned.points) + " points in " +
+                                             std::to_string(planned.bytes) + " bytes then, " +
+                                             std::to_string(file.point_count) + " in " + std::to_string(file.bytes) +
+                                             " now): plan again, and run every tile");
+    }
+
+    // Only the tile's inputs, in the survey's frame and layout.
+    Survey part = survey;
+    part.files.clear();
+    part.header.point_count = 0;
+    for (const std::size_t i : tile.inputs) {
+        part.files.push_back(survey.files[i]);
+        part.header.point_count += survey.files[i].point_count;
+    }
+    LasReader* single = paths.size() == 1 ? opened.single.get() : nullptr;
+
+    const TileLocator locate(plan, survey.header);
+    const std::uint32_t columns = static_cast<std::uint32_t>(locate.tile_starts[0].size() - 1);
+    std::vector<std::uint32_t> planned_tiles; // y * columns + x of each tile that reads the file being read
+    std::size_t planned_for = ~std::size_t{0};
+    std::vector<TileInputCount> counts(tile.inputs.size());
+    for (std::size_t i = 0; i < tile.inputs.size(); ++i) counts[i].input = tile.inputs[i];
+    const std::size_t length = survey.header.point_record_length;
+    const auto check = [&](std::size_t file, const std::byte* records, std::size_t count) {
+        const std::size_t input = tile.inputs[file];
+        if (planned_for != input) {
+            planned_tiles.clear();
+            for (const PlannedTile& t : plan.tiles)
+                if (std::binary_search(t.inputs.begin(), t.inputs.end(), input))
+                    planned_tiles.push_back(t.y * columns + t.x);
+            std::sort(planned_tiles.begin(), planned_tiles.end());
+            planned_for = input;
+        }
+        TileInputCount& c = counts[file];
+        for (std::size_t i = 0; i < count; ++i, ++c.records) {
+            const std::byte* at = records + i * length;
+            const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
+                                                  load_le<std::int32_t>(at + 8)};
+            if (!locate.inside(raw)) {
+                ++c.outside;
+                continue;
+            }
+            const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
+            if ((tx == tile.x && ty == tile.y) ||
+                std::binary_search(planned_tiles.begin(), planned_tiles.end(), ty * columns + tx))
+                continue;
+            const SurveyFile& f = survey.files[input];
+            const LasHeader& h = survey.header;
+            throw_input_error(
+                f.path, "point record " + std::to_string(c.records) + " lies at x " +
+                            shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
+                            shortest(double(raw[1]) * h.scale[1] + h.offset[1]) +
+                            ", outside the file's header bounds (x " + shortest(f.min[0]) + " to " +
+                            shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " + shortest(f.max[1]) +
+                            "), in a tile that does not read this file, so its points would be lost: correct the "
+                            "header's bounds (lasmesh info --scan shows the true ones) and plan again, or mesh on one "
+                            "machine with --scan-bounds");
+        }
+    };
+
+    ComputeDevice device(o.device);
+    AccumulateOptions accumulate = opened.accumulate;
+    accumulate.spec = plan.grid;
+    accumulate.memory_in_use = resident_bytes();
+    SurveyReader reader(part, single);
+    reader.on_records(check);
+    watch.stage_started(BuildStage::read_accumulate,
+                        "reading " + std::to_string(part.files.size()) + " inputs of tile " + std::to_string(index));
+    watch.detail(reading_line(reader, false));
+    watch.detail(device_line(device));
+    accumulate.on_slice = [&](std::uint64_t points) {
+        watch.points_read(points, part.header.point_count, reader.bytes_read(), reader.bytes_total());
+    };
+    const CellGrid grid = accumulate_cells(reader, device, accumulate);
+
+    // The tile's bricks, whole: its cells start and end on bricks.
+    TileCells cells;
+    cells.plan_hash = plan.hash;
+    cells.index = index;
+    cells.color = grid.color;
+    cells.color_max_word = grid.color_max_word;
+    cells.device = device.info().name;
+    cells.inputs = counts;
+    for (std::size_t w = 0; w < reader.warnings().size(); ++w)
+        cells.warnings.push_back({tile.inputs[reader.warning_files()[w]], reader.warnings()[w]});
+    const std::uint64_t bx0 = tile.x_cells[0] / CellGrid::brick_size,
+                        bx1 = (tile.x_cells[1] + 3) / CellGrid::brick_size;
+    const std::uint64_t by0 = tile.y_cells[0] / CellGrid::brick_size,
+                        by1 = (tile.y_cells[1] + 3) / CellGrid::brick_size;
+    TileReport report;
+    for (std::size_t b = 0; b < grid.brick_keys.size(); ++b) {
+        const std::uint64_t key = grid.brick_keys[b];
+        const std::uint64_t x = key % grid.bricks[0], y = key / grid.bricks[0] % grid.bricks[1];
+        if (x < bx0 || x >= bx1 || y < by0 || y >= by1) continue;
+        cells.brick_keys.push_back(key);
+        cells.brick_masks.push_back(grid.brick_masks[b]);
+        cells.brick_first.push_back(cells.cells.size());
+        const auto n = static_cast<std::uint64_t>(std::popcount(grid.brick_masks[b]));
+        for (std::uint64_t c = 0; c < n; ++c) {
+            cells.cells.push_back(grid.cells[grid.brick_first[b] + c]);
+            report.points_in_tile += cells.cells.back().count;
+        }
+    }
+    std::error_code failed;
+    std::filesystem::create_directories(tiles_folder(plan), failed);
+    if (failed)
+        throw Error(ErrorKind::output, tiles_folder(plan) + ": cannot create the tiles' folder: " + failed.message());
+    report.index = index;
+    report.path = tile_path(plan, index);
+    report.bytes = write_tile_cells(cells, report.path);
+    report.inputs_read = tile.inputs.size();
+    for (const TileInputCount& c : counts) report.points_read += c.records;
+    report.occupied_cells = cells.cells.size();
+    report.seconds = seconds_since(start);
+    report.peak_rss_bytes = peak_rss();
+    return report;
+}
+
+} // namespace lasmesh

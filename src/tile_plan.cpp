@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: Apache-2.0
+// plan_tiles and the plan's file: the grid fixed from the headers, cut into square tiles of whole
+// bricks in x and y, each listing the inputs whose header bounds (in the survey's CRS) touch it.
+#include "lasmesh/tile_plan.hpp"
+
+#include "build_steps.hpp"
+#include "grid/auto_grid.hpp"
+#include "io/json.hpp"
+#include "io/output_file.hpp"
+#include "lasmesh/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace lasmesh {
+
+namespace {
+
+// About this many promised points a tile when no tile size is given: a tile job's memory is
+// then that of meshing 20 million points (a few hundred MB), and the survey has enough tiles to
+// keep a few dozen nodes busy from a billion points on.
+constexpr double default_points_per_tile = 20e6;
+
+std::uint64_t fnv1a(const std::string& bytes) {
+    std::uint64_t hash = 0xcbf29ce484222325ULL;
+    for (const char c : bytes) hash = (hash ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+    return hash;
+}
+
+const char* request_kind(GridRequest::Kind kind) {
+    switch (kind) {
+    case GridRequest::Kind::automatic: return "automatic";
+    case GridRequest::Kind::longest_axis: return "longest";
+    case GridRequest::Kind::explicit_dims: return "cells";
+    case GridRequest::Kind::voxel_size: return "edge";
+    }
+    return "automatic";
+}
+
+// The cell column (or row) of a coordinate, a cell wider on each side (rounding near a cell's
+// face must not lose a tile), clamped to the grid: a file outside it still has a tile to read it.
+std::pair<std::uint32_t, std::uint32_t> cell_range(double low, double high, double origin, double cell,
+                                                   std::uint32_t cells) {
+    const auto clamp = [&](double c) {
+        return static_cast<std::uint32_t>(std::clamp(c, 0.0, static_cast<double>(cells - 1)));
+    };
+    return {clamp(std::floor((low - origin) / cell) - 1), clamp(std::floor((high - origin) / cell) + 1)};
+}
+
+} // namespace
+
+TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& o, double tile_size) {
+    if (o.scan_bounds)
+        throw Error(
+            ErrorKind::usage,
+            "a plan reads headers only: --scan-bounds cannot be planned (give --bounds, or correct the headers)",
+            "scan_bounds");
+    if (o.skip_bad_inputs)
+        throw Error(ErrorKind::usage,
+                    "a plan's tiles must read every input planned: leave out bad inputs before planning instead",
+                    "skip_bad_inputs");
+    if (!std::isfinite(tile_size) || tile_size < 0)
+        throw Error(ErrorKind::usage, "the tile size must be a length, or 0 to choose it from the data", "tile");
+    check_read_options(inputs, o);
+    for (const std::string& input : inputs)
+        if (input == "-")
+            throw Error(ErrorKind::usage, "a plan's inputs must be files: every tile job reads them", "inputs");
+    RunReport report;
+    SurveyStart start = open_survey(inputs, o, report);
+    const Survey& survey = start.survey;
+    const LasHeader& header = survey.header;
+
+    TilePlan plan;
+    plan.grid_request = o.grid;
+    plan.bounds = o.bounds;
+    plan.crs = o.crs;
+    plan.unit = report.unit;
+    AccumulateOptions accumulate = start.accumulate;
+    if (o.grid.kind == GridRequest::Kind::automatic) // the first grid; merge coarsens it as one machine would
+        accumulate.grid = choose_grid(header.point_count, o.bounds.value_or(Bounds{header.min, header.max}),
+                                      inputs.size() == 1 ? inputs.front() : std::to_string(inputs.size()) + " files")
+                              .request;
+    plan.grid = grid_for(header, accumulate);
+    const GridSpec& grid = plan.grid;
+
+    std::uint64_t cells = 0;
+    if (tile_size > 0) {
+        cells = static_cast<std::uint64_t>(std::ceil(tile_size / grid.cell_size));
+    } else {
+        const double tiles = std::max(1.0, std::ceil(double(header.point_count) / default_points_per_tile));
+        cells = static_cast<std::uint64_t>(std::ceil(std::sqrt(double(grid.dims[0]) * grid.dims[1] / tiles)));
+    }
+    const std::uint64_t brick = CellGrid::brick_size;
+    cells = std::clamp<std::uint64_t>((cells + brick - 1) / brick * brick, brick, max_grid_cells);
+    plan.tile_cells = static_cast<std::uint32_t>(cells);
+    plan.tile_size = double(cells) * grid.cell_size;
+
+    std::map<std::pair<std::uint32_t, std::uint32_t>, PlannedTile> tiles; // by (y, x)
+    for (std::size_t i = 0; i < survey.files.size(); ++i) {
+        const SurveyFile& file = survey.files[i];
+        plan.inputs.push_back(
+            {std::filesystem::absolute(file.path).lexically_normal().string(), file.bytes, file.point_count});
+        if (file.point_count == 0) continue;
+        const auto [x0, x1] = cell_range(file.min[0], file.max[0], grid.origin[0], grid.cell_size, grid.dims[0]);
+        const auto [y0, y1] = cell_range(file.min[1], file.max[1], grid.origin[1], grid.cell_size, grid.dims[1]);
+        for (std::uint32_t ty = y0 / plan.tile_cells; ty <= y1 / plan.tile_cells; ++ty)
+            for (std::uint32_t tx = x0 / plan.tile_cells; tx <= x1 / plan.tile_cells; ++tx) {
+                PlannedTile& tile = tiles[{ty, tx}];
+                tile.x = tx, tile.y = ty;
+                tile.inputs.push_back(i);
+                tile.points += file.point_count;
+            }
+    }
+    for (auto& [key, tile] : tiles) {
+        tile.x_cells = {tile.x * plan.tile_cells, std::min(grid.dims[0], (tile.x + 1) * plan.tile_cells)};
+        tile.y_cells = {tile.y * plan.tile_cells, std::min(grid.dims[1], (tile.y + 1) * plan.tile_cells)};
+        plan.tiles.push_back(std::move(tile));
+    }
+    return plan;
+}
+
+namespace {
+
+Json plan_json(const TilePlan& plan) {
+    Json json;
+    json["lasmesh_plan"] = 1;
+    Json inputs = Json::array();
+    for (const PlannedInput& input : plan.inputs)
+        inputs.push_back({{"path", input.path}, {"bytes", input.bytes}, {"points", input.points}});
+    json["inputs"] = std::move(inputs);
+    const GridRequest& r = plan.grid_request;
+    json["grid_request"] = {{"kind", request_kind(r.kind)}, {"dims", r.dims}, {"edge", r.voxel}};
+    json["bounds"] = plan.bounds ? Json{{"min", plan.bounds->min}, {"max", plan.bounds->max}} : Json();
+    json["crs"] = plan.crs;
+    json["grid"] = {{"origin", plan.grid.origin}, {"cell_size", plan.grid.cell_size}, {"dims", plan.grid.dims}};
+    json["unit"] = plan.unit;
+    json["tile"] = {{"size", plan.tile_size}, {"cells", plan.tile_cells}};
+    Json tiles = Json::array();
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
+        const PlannedTile& t = plan.tiles[k];
+        tiles.push_back({{"index", k},
+                         {"x", t.x},
+                         {"y", t.y},
+                         {"cells", {t.x_cells[0], t.x_cells[1], t.y_cells[0], t.y_cells[1]}},
+                         {"inputs", t.inputs},
+                         {"points", t.points}});
+    }
+    json["tiles"] = std::move(tiles);
+    return json;
+}
+
+} // namespace
+
+void write_plan(TilePlan& plan, const std::string& path) {
+    const std::string text = plan_json(plan).dump(1) + "\n";
+    OutputFile file(path);
+    file.write(text);
+    file.commit();
+    plan.path = path;
+    plan.hash = fnv1a(text);
+}
+
+TilePlan read_plan(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw_input_error(path, "cannot open this plan (lasmesh plan writes one)");
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    const std::string text = bytes.str();
+    TilePlan plan;
+    plan.path = path;
+    plan.hash = fnv1a(text);
+    try {
+        const nlohmann::json json = nlohmann::json::parse(text);
+        if (!json.is_object() || json.value("lasmesh_plan", 0) != 1)
+            throw_input_error(path, "not a lasmesh plan (no \"lasmesh_plan\": 1)");
+        for (const auto& input : json.at("inputs"))
+            plan.inputs.push_back({input.at("path").get<std::string>(), input.at("bytes").get<std::uint64_t>(),
+                                   input.at("points").get<std::uint64_t>()});
+        const auto& r = json.at("grid_request");
+        const std::string kind = r.at("kind").get<std::string>();
+        plan.grid_request.kind = kind == "longest" ? GridRequest::Kind::longest_axis
+                                 : kind == "cells" ? GridRequest::Kind::explicit_dims
+                                 : kind == "edge"  ? GridRequest::Kind::voxel_size
+                                                   : GridRequest::Kind::automatic;
+        plan.grid_request.dims = r.at("dims").get<std::array<std::uint32_t, 3>>();
+        plan.grid_request.voxel = r.at("edge").get<double>();
+        if (!json.at("bounds").is_null())
+            plan.bounds = Bounds{json.at("bounds").at("min").get<Vec3>(), json.at("bounds").at("max").get<Vec3>()};
+        plan.crs = json.at("crs").get<std::string>();
+        plan.grid.origin = json.at("grid").at("origin").get<Vec3>();
+        plan.grid.cell_size = json.at("grid").at("cell_size").get<double>();
+        plan.grid.dims = json.at("grid").at("dims").get<std::array<std::uint32_t, 3>>();
+        plan.unit = json.at("unit").get<std::string>();
+        plan.tile_size = json.at("tile").at("size").get<double>();
+        plan.tile_cells = json.at("tile").at("cells").get<std::uint32_t>();
+        for (const auto& t : json.at("tiles")) {
+            PlannedTile tile;
+            tile.x = t.at("x").get<std::uint32_t>(), tile.y = t.at("y").get<std::uint32_t>();
+            const auto c = t.at("cells").get<std::array<std::uint32_t, 4>>();
+            tile.x_cells = {c[0], c[1]}, tile.y_cells = {c[2], c[3]};
+            tile.inputs = t.at("inputs").get<std::vector<std::size_t>>();
+            tile.points = t.at("points").get<std::uint64_t>();
+            for (const std::size_t i : tile.inputs)
+                if (i >= plan.inputs.size())
+                    throw_input_error(path, "a tile names input " + std::to_string(i) + " of " +
+                                                std::to_string(plan.inputs.size()));
+            if (tile.x_cells[0] >= tile.x_cells[1] || tile.x_cells[1] > plan.grid.dims[0] ||
+                tile.y_cells[0] >= tile.y_cells[1] || tile.y_cells[1] > plan.grid.dims[1] ||
+                tile.x_cells[0] % CellGrid::brick_size || tile.y_cells[0] % CellGrid::brick_size)
+                throw_input_error(path,
+                                  "tile " + std::to_string(plan.tiles.size()) + "'s cells are not within the grid");
+            plan.tiles.push_back(std::move(tile));
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw_input_error(path, std::string("not a valid plan: ") + e.what());
+    }
+    if (plan.inputs.empty() || plan.tiles.empty()) throw_input_error(path, "a plan without inputs or tiles");
+    return plan;
+}
+
+std::string tiles_folder(const TilePlan& plan) {
+    std::filesystem::path p(plan.path);
+    const std::string stem = p.extension() == ".json" ? p.stem().string() : p.filename().string();
+    return (p.parent_path() / (stem + "-tiles")).string();
+}
+
+std::string tile_path(const TilePlan& plan, std::size_t index) {
+    return (std::filesystem::path(tiles_folder(plan)) / ("tile-" + std::to_string(index) + ".cells")).string();
+}
+
+} // namespace lasmesh

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# plan / tile / merge on this machine (tiles run by xargs -P): the merged outputs are byte for byte
+# those of one run over the same inputs (a tileset, a PLY, a GLB), for the automatic grid and a
+# cell edge; a missing, damaged or foreign tile is named by merge, which writes nothing; a rerun
+# tile replaces its file; a file whose header bounds lie (its points would be lost) stops its tile;
+# an input changed since the plan is refused; the tile index comes from --index or the scheduler.
+# Usage: tiles_test.sh LASMESH LASGEN
+set -u
+lasmesh=$1 lasgen=$2 here=$(dirname "$0")
+source "$here/common.sh"
+cd "$dir" || exit 1
+
+"$lasgen" --scene deck --points 300000 --seed 5 --epsg 32631 --split-xy 3 -o deck.las > /dev/null
+inputs=(deck-*.las)
+mkdir -p one many
+"$lasmesh" "${inputs[@]}" -o one/tileset.json -o one/mesh.ply -o one/mesh.glb -q
+"$lasmesh" plan "${inputs[@]}" --tile 12 -o site.plan.json > plan.txt; rc=$?
+check "plan: exit 0" test "$rc" -eq 0
+tiles=$(python3 -c 'import json; print(len(json.load(open("site.plan.json"))["tiles"]))')
+check "plan: several tiles" test "$tiles" -ge 4
+check "plan: says how many tiles, and the array job's command" has plan.txt "$tiles tiles of 12"
+check "plan: the sbatch line covers every tile" has plan.txt "sbatch --array=0-$((tiles - 1)) "
+check "plan: every tile reads only some inputs" python3 -c '
+import json; p = json.load(open("site.plan.json"))
+assert all(0 < len(t["inputs"]) < len(p["inputs"]) for t in p["tiles"]), [t["inputs"] for t in p["tiles"]]'
+
+seq 0 $((tiles - 1)) | xargs -P 2 -I K "$lasmesh" tile site.plan.json --index K -q; rc=$?
+check "tiles: every one exit 0" test "$rc" -eq 0
+check "tiles: one file each" test "$(ls site.plan-tiles | wc -l)" -eq "$tiles"
+"$lasmesh" merge site.plan.json -o many/tileset.json -o many/mesh.ply -o many/mesh.glb > merge.txt 2>&1; rc=$?
+check "merge: exit 0" test "$rc" -eq 0
+check "merge: the summary names the outputs" has merge.txt "many/tileset.json"
+check "merged PLY = one run's PLY, byte for byte" cmp -s one/mesh.ply many/mesh.ply
+check "merged GLB = one run's GLB" cmp -s one/mesh.glb many/mesh.glb
+check "merged tileset = one run's tileset, every file" diff -r one many
+
+# A cell edge instead of the automatic grid, tiles read one input at a time.
+"$lasmesh" "${inputs[@]}" -o edge-one.ply --voxel 0.2 -q
+"$lasmesh" plan "${inputs[@]}" --voxel 0.2 --tile 20 -o edge.json > /dev/null
+for k in $(seq 0 $(($(python3 -c 'import json; print(len(json.load(open("edge.json"))["tiles"]))') - 1))); do
+  "$lasmesh" tile edge.json --index "$k" --threads 1 -q
+done
+"$lasmesh" merge edge.json -o edge-many.ply -q
+check "--voxel 0.2: merged PLY = one run's" cmp -s edge-one.ply edge-many.ply
+
+# Missing, damaged, from another plan: all named at once, nothing written.
+mv site.plan-tiles/tile-1.cells tile-1.saved
+python3 -c '
+import sys; f = open("site.plan-tiles/tile-2.cells", "r+b"); f.seek(200); b = f.read(1); f.seek(200); f.write(bytes([b[0] ^ 1]))'
+cp edge.plan-tiles/tile-0.cells site.plan-tiles/tile-3.cells 2> /dev/null || cp edge-tiles/tile-0.cells site.plan-tiles/tile-3.cells
+"$lasmesh" merge site.plan.json -o bad.ply > bad.txt 2>&1; rc=$?
+check "merge with bad tiles: input error (2)" test "$rc" -eq 2
+check "names the three tiles, as an array range" has bad.txt "3 of $tiles tiles missing or damaged: 1-3"
+check "says tile 1 is missing" has bad.txt "tile-1.cells: missing"
+check "says tile 2 is damaged" has bad.txt "tile-2.cells: damaged"
+check "says tile 3 is from another plan" has bad.txt "tile-3.cells: from another plan"
+check "and how to rerun them" has bad.txt "sbatch --array=1-3"
+check "nothing written" test ! -e bad.ply
+mv tile-1.saved site.plan-tiles/tile-1.cells
+for k in 2 3; do "$lasmesh" tile site.plan.json --index "$k" -q; done
+"$lasmesh" merge site.plan.json -o again.ply -q
+check "tiles rerun: the same PLY again" cmp -s one/mesh.ply again.ply
+check "a rerun replaces, no other file" test "$(ls -A site.plan-tiles | wc -l)" -eq "$tiles"
+
+# The index from the scheduler's environment, and refused when there is none or it is wrong.
+rm site.plan-tiles/tile-0.cells
+SLURM_ARRAY_TASK_ID=0 "$lasmesh" tile site.plan.json -q; rc=$?
+check "SLURM_ARRAY_TASK_ID gives the tile" test "$rc" -eq 0 -a -s site.plan-tiles/tile-0.cells
+rm site.plan-tiles/tile-0.cells
+JOB_COMPLETION_INDEX=0 "$lasmesh" tile site.plan.json -q; rc=$?
+check "JOB_COMPLETION_INDEX (Kubernetes) gives the tile" test "$rc" -eq 0 -a -s site.plan-tiles/tile-0.cells
+env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX "$lasmesh" tile site.plan.json > noindex.txt 2>&1; rc=$?
+check "no index: usage error (1)" test "$rc" -eq 1
+check "asks for --index" has noindex.txt "give --index K"
+"$lasmesh" tile site.plan.json --index "$tiles" > past.txt 2>&1; rc=$?
+check "an index past the tiles: usage error" test "$rc" -eq 1
+check "says the tiles there are" has past.txt "its tiles are 0 to $((tiles - 1))"
+
+# An input whose header bounds leave out some of its points: the tile that finds one stops.
+mkdir lie && cp deck-*.las lie/
+last=$(ls lie/deck-*.las | tail -1)
+python3 -c '
+import struct, sys
+f = open(sys.argv[1], "r+b"); f.seek(187); lo = struct.unpack("<d", f.read(8))[0]
+f.seek(187); f.write(struct.pack("<d", lo + 8.0))' "$last"
+"$lasmesh" plan lie/deck-*.las --tile 12 -o lie.json > /dev/null
+failures=0
+for k in $(seq 0 $(($(python3 -c 'import json; print(len(json.load(open("lie.json"))["tiles"]))') - 1))); do
+  "$lasmesh" tile lie.json --index "$k" -q 2>> lie.txt || failures=$((failures + 1))
+done
+check "header bounds that lie: a tile stops (input error)" test "$failures" -ge 1
+check "naming the file and the record" contains lie.txt "$(basename "$last"): point record [0-9]* lies at x"
+check "saying its points would be lost" has lie.txt "its points would be lost"
+"$lasmesh" merge lie.json -o lie.ply > lie-merge.txt 2>&1; rc=$?
+check "merge then refuses (a tile missing), writing nothing" test "$rc" -eq 2 -a ! -e lie.ply
+
+# An input changed since the plan.
+cp deck-0_0.las saved.las && "$lasgen" --scene deck --points 1000 --seed 9 -o deck-0_0.las > /dev/null
+"$lasmesh" tile site.plan.json --index 0 > changed.txt 2>&1; rc=$?
+check "an input changed since the plan: input error" test "$rc" -eq 2
+check "naming it" contains changed.txt "deck-0_0.las: changed since"
+mv saved.las deck-0_0.las
+"$lasmesh" plan - -o stdin.json < deck-0_0.las > stdin.txt 2>&1; rc=$?
+check "plan of standard input: usage error" test "$rc" -eq 1
+"$lasmesh" plan "${inputs[@]}" --scan-bounds -o scan.json > scan.txt 2>&1; rc=$?
+check "plan with --scan-bounds: usage error saying why" test "$rc" -eq 1 && has scan.txt "headers only"
+finish tiles
