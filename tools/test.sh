@@ -36,7 +36,8 @@ fi
 # The tests again under AddressSanitizer (with LeakSanitizer) and UndefinedBehaviorSanitizer, in
 # build-asan/ (GCC, -O1 to keep them fast; UBSan stops at the first finding): the unit tests, and
 # the command-line tests that feed the tool bad input (errors, LAZ) or run the whole pipeline
-# (mesh), and `lasmesh view` (its server's threads, driven from Chromium). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
+# (mesh), `lasmesh view` (its server's threads, driven from Chromium), and plan / tile / merge (tile
+# files read back, damaged ones too). Left out for time (the suite should stay near 12 minutes on 2 cores): the other CLI
 # tests, which go through the same library code as these with good input.
 mkdir -p build-asan && ln -sfn ../build/viewer build-asan/viewer # the .html viewer's npm packages
 if [ ! -f build-asan/Makefile ]; then # (a configure that failed leaves a cache but no Makefile)
@@ -73,7 +74,7 @@ rm -rf "$probe"
     ctest --output-on-failure --timeout 900 -R '^unit$' > unit-sanitized.log 2>&1 &
   unit=$! failed=0
   LSAN_OPTIONS="suppressions=$PWD/../tools/lsan_tls.supp:use_tls=0:print_suppressions=0" \
-    ctest --output-on-failure --timeout 900 -R '^(cli_errors|cli_laz|cli_mesh|browser_view)$' || failed=1
+    ctest --output-on-failure --timeout 900 -R '^(cli_errors|cli_laz|cli_mesh|browser_view|cli_tiles)$' || failed=1
   wait "$unit" || failed=1
   cat unit-sanitized.log
   [ "$failed" -eq 0 ])
