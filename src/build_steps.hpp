@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The steps of build_mesh that a run split over machines (tile_plan.hpp) takes apart: the
+// The steps of build_mesh that a run split over machines (build_mesh.hpp) takes apart: the
 // survey's headers opened, the grid reported on, the grid meshed and written. Internal: the
 // library's users call build_mesh, or plan, run_tile and merge_tiles.
 #pragma once

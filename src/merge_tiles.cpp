@@ -2,7 +2,7 @@
 // merge_tiles: the tiles' cell sums added into the plan's grid (the tiles partition its cells,
 // so each cell comes from one tile, whole), every input's points accounted for, then the grid
 // meshed as build_mesh meshes the grid it accumulates itself: the same outputs, byte for byte.
-#include "lasmesh/tile_plan.hpp"
+#include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
 #include "grid/auto_grid.hpp"

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // run_tile: one tile of a plan. The survey's headers are read as one machine reads them (the
 // same CRS, frame and layout, so the same raw integers and cells), then only the inputs planned
-// for the tile are accumulated into the plan's grid, and the tile's bricks kept. Each point read
-// is checked on the host: one in the grid but in a tile that does not read its file lies outside
-// its file's header bounds, and would be lost: the job stops, naming it.
-#include "lasmesh/tile_plan.hpp"
+// for the tile are read, and only their points inside the tile go on to the device, into the
+// plan's grid. Each point read is checked on the host: one in the grid but in a tile that does
+// not read its file lies outside its file's header bounds, and would be lost: the job stops,
+// naming it.
+#include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
 #include "byte_order.hpp"
@@ -16,6 +17,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <sys/resource.h>
 
@@ -106,7 +108,12 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     std::vector<TileInputCount> counts(tile.inputs.size());
     for (std::size_t i = 0; i < tile.inputs.size(); ++i) counts[i].input = tile.inputs[i];
     const std::size_t length = survey.header.point_record_length;
-    const auto check = [&](std::size_t file, const std::byte* records, std::size_t count) {
+    // Keeps the records in the tile (moved to the front), counts those outside the grid, passes
+    // over those of another tile that reads the file, and stops at any other.
+    const std::uint32_t window[4] = {tile.x_cells[0], tile.x_cells[1], tile.y_cells[0], tile.y_cells[1]};
+    const std::int64_t x0 = locate.axes[0].starts[window[0]], x1 = locate.axes[0].starts[window[1]];
+    const std::int64_t y0 = locate.axes[1].starts[window[2]], y1 = locate.axes[1].starts[window[3]];
+    const auto keep = [&](std::size_t file, std::byte* records, std::size_t count) {
         const std::size_t input = tile.inputs[file];
         if (planned_for != input) {
             planned_tiles.clear();
@@ -117,18 +124,22 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
             planned_for = input;
         }
         TileInputCount& c = counts[file];
+        std::size_t kept = 0;
         for (std::size_t i = 0; i < count; ++i, ++c.records) {
-            const std::byte* at = records + i * length;
+            std::byte* at = records + i * length;
             const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
                                                   load_le<std::int32_t>(at + 8)};
             if (!locate.inside(raw)) {
                 ++c.outside;
                 continue;
             }
-            const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
-            if ((tx == tile.x && ty == tile.y) ||
-                std::binary_search(planned_tiles.begin(), planned_tiles.end(), ty * columns + tx))
+            if (raw[0] >= x0 && raw[0] < x1 && raw[1] >= y0 && raw[1] < y1) {
+                if (kept != i) std::memmove(records + kept * length, at, length);
+                ++kept;
                 continue;
+            }
+            const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
+            if (std::binary_search(planned_tiles.begin(), planned_tiles.end(), ty * columns + tx)) continue;
             const SurveyFile& f = survey.files[input];
             const LasHeader& h = survey.header;
             throw_input_error(
@@ -141,6 +152,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
                             "header's bounds (lasmesh info --scan shows the true ones) and plan again, or mesh on one "
                             "machine with --scan-bounds");
         }
+        return kept;
     };
 
     ComputeDevice device(o.device);
@@ -148,7 +160,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     accumulate.spec = plan.grid;
     accumulate.memory_in_use = resident_bytes();
     SurveyReader reader(part, single);
-    reader.on_records(check);
+    reader.on_records(keep);
     watch.stage_started(BuildStage::read_accumulate,
                         "reading " + std::to_string(part.files.size()) + " inputs of tile " + std::to_string(index));
     watch.detail(reading_line(reader, false));
@@ -158,7 +170,8 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     };
     const CellGrid grid = accumulate_cells(reader, device, accumulate);
 
-    // The tile's bricks, whole: its cells start and end on bricks.
+    // Only the tile's points reached the device: its bricks are the grid's (a tile's cells start
+    // and end on bricks), in key order, each brick's cells after the last's.
     TileCells cells;
     cells.plan_hash = plan.hash;
     cells.index = index;
@@ -168,16 +181,9 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     cells.inputs = counts;
     for (std::size_t w = 0; w < reader.warnings().size(); ++w)
         cells.warnings.push_back({tile.inputs[reader.warning_files()[w]], reader.warnings()[w]});
-    const std::uint64_t bx0 = tile.x_cells[0] / CellGrid::brick_size,
-                        bx1 = (tile.x_cells[1] + 3) / CellGrid::brick_size;
-    const std::uint64_t by0 = tile.y_cells[0] / CellGrid::brick_size,
-                        by1 = (tile.y_cells[1] + 3) / CellGrid::brick_size;
     TileReport report;
     for (std::size_t b = 0; b < grid.brick_keys.size(); ++b) {
-        const std::uint64_t key = grid.brick_keys[b];
-        const std::uint64_t x = key % grid.bricks[0], y = key / grid.bricks[0] % grid.bricks[1];
-        if (x < bx0 || x >= bx1 || y < by0 || y >= by1) continue;
-        cells.brick_keys.push_back(key);
+        cells.brick_keys.push_back(grid.brick_keys[b]);
         cells.brick_masks.push_back(grid.brick_masks[b]);
         cells.brick_first.push_back(cells.cells.size());
         const auto n = static_cast<std::uint64_t>(std::popcount(grid.brick_masks[b]));

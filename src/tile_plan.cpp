@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // plan_tiles and the plan's file: the grid fixed from the headers, cut into square tiles of whole
 // bricks in x and y, each listing the inputs whose header bounds (in the survey's CRS) touch it.
-#include "lasmesh/tile_plan.hpp"
+#include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
 #include "grid/auto_grid.hpp"

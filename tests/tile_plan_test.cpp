@@ -3,7 +3,6 @@
 // give the bytes build_mesh gives; a tile's file read back whole, and every kind of damage told.
 #include "lasmesh/build_mesh.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/tile_plan.hpp"
 
 #include "grid/tile_cells.hpp"
 

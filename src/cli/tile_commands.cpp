@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "tile_commands.hpp"
 
+#include "lasmesh/build_mesh.hpp"
 #include "lasmesh/error.hpp"
-#include "lasmesh/tile_plan.hpp"
 #include "mesh_observer.hpp"
 #include "number_text.hpp"
 #include "option_parsing.hpp"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The survey over many machines, in three commands (lasmesh/tile_plan.hpp):
+// The survey over many machines, in three commands (lasmesh/build_mesh.hpp):
 //   lasmesh plan INPUT... [--tile SIZE] -o site.plan.json   headers only: the grid and its tiles
 //   lasmesh tile site.plan.json --index K                    one tile's cells (an array job's task)
 //   lasmesh merge site.plan.json -o site/tileset.json        the tiles' cells meshed, as one machine would

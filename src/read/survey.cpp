@@ -457,8 +457,7 @@ std::size_t SurveyReader::read_records(std::span<std::byte> dst) {
                 }
             }
             convert_positions(out, got, length, file);
-            if (seen_) seen_(next_ - 1, out, got);
-            total += got;
+            total += seen_ ? seen_(next_ - 1, out, got) : got;
             records_read_ += got;
             if (got == 0 || current_left() == 0) finish_current();
         }

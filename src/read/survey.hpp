@@ -122,8 +122,9 @@ class SurveyReader {
     // The file each of warnings() is about (a survey's reader only).
     const std::vector<std::size_t>& warning_files() const { return warning_files_; }
     // Called with each run of records of one file as it is handed out, in the survey's frame and
-    // layout (a survey's reader only): a tile job checks where they lie (tile_job.cpp).
-    using RecordsSeen = std::function<void(std::size_t file, const std::byte* records, std::size_t count)>;
+    // layout (a survey's reader only); returns how many to hand out, moved to the front of the
+    // run: a tile job checks where they lie and keeps its tile's (tile_job.cpp).
+    using RecordsSeen = std::function<std::size_t(std::size_t file, std::byte* records, std::size_t count)>;
     void on_records(RecordsSeen seen) { seen_ = std::move(seen); }
 
   private:
