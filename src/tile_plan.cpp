@@ -41,14 +41,16 @@ const char* request_kind(GridRequest::Kind kind) {
     return "automatic";
 }
 
-// The cell column (or row) of a coordinate, a cell wider on each side (rounding near a cell's
-// face must not lose a tile), clamped to the grid: a file outside it still has a tile to read it.
+// The cell columns (or rows) from `low` to `high`, clamped to the grid (a file outside it still has
+// a tile to read it). A millionth of a cell more on each side: a header bound within rounding of
+// a cell's face must not lose the tile beyond it; a tile read for nothing costs more than that.
 std::pair<std::uint32_t, std::uint32_t> cell_range(double low, double high, double origin, double cell,
                                                    std::uint32_t cells) {
+    constexpr double margin = 1e-6;
     const auto clamp = [&](double c) {
         return static_cast<std::uint32_t>(std::clamp(c, 0.0, static_cast<double>(cells - 1)));
     };
-    return {clamp(std::floor((low - origin) / cell) - 1), clamp(std::floor((high - origin) / cell) + 1)};
+    return {clamp(std::floor((low - origin) / cell - margin)), clamp(std::floor((high - origin) / cell + margin))};
 }
 
 } // namespace

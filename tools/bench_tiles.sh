@@ -1,22 +1,22 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# The deck as a survey of 16 map tiles (lasgen --split-xy 4), meshed to a 3D Tiles tileset on
+# The deck as a survey of SPLIT x SPLIT map-tile files (lasgen --split-xy), meshed to a 3D Tiles tileset on
 # this machine in one run, then planned, run as a Slurm array job on a single-node cluster
 # (tools/slurm_local.sh, as root) and merged:
 #   - whether the merged tileset is the one run's, every file byte for byte;
 #   - CPU seconds (user + system) of the one run against all tile jobs and the merge together;
 #   - each tile job's wall time and peak resident memory, against the one run's peak / tiles;
 #   - the bytes each tile job read (its inputs' sizes) against the whole survey's.
-# Usage: tools/bench_tiles.sh [POINTS] [TILE]   (default 20,000,000 points, tiles of 10 m)
+# Usage: tools/bench_tiles.sh [POINTS] [TILE] [SPLIT]   (default 20,000,000 points, tiles of 10 m, 4 x 4 files)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-n=${1:-20000000} tile=${2:-10}
+n=${1:-20000000} tile=${2:-10} split=${3:-4}
 root=$(pwd) lasmesh=$(pwd)/build/lasmesh lasgen=$(pwd)/build/lasgen
 work=$(mktemp -d /tmp/lasmesh-tiles-XXXXXX) && chmod 0755 "$work"
 mkdir "$work/cluster"
 trap '"$root/tools/slurm_local.sh" stop "$work/cluster" || true; rm -rf "$work"' EXIT
 cd "$work"
-"$lasgen" --scene deck -n "$n" --seed 1 --epsg 32631 --split-xy 4 -o deck.las
+"$lasgen" --scene deck -n "$n" --seed 1 --epsg 32631 --split-xy "$split" -o deck.las
 mkdir one many
 /usr/bin/time -f "%e %U %S %M" -o one.time "$lasmesh" deck-*.las -o one/tileset.json -q
 read -r one_wall one_user one_sys one_kb < one.time
