@@ -7,10 +7,12 @@
 #   - CPU seconds (user + system) of the one run against all tile jobs and the merge together;
 #   - each tile job's wall time and peak resident memory, against the one run's peak / tiles;
 #   - the bytes each tile job read (its inputs' sizes) against the whole survey's.
-# Usage: tools/bench_tiles.sh [POINTS] [TILE] [SPLIT]   (default 20,000,000 points, tiles of 10 m, 4 x 4 files)
+# Usage: tools/bench_tiles.sh [POINTS] [TILE] [SPLIT] [TILE OPTIONS...]
+#   (default 20,000,000 points, tiles of 10 m, 4 x 4 files; e.g. --chunk-mb 4 for every tile job)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=${1:-20000000} tile=${2:-10} split=${3:-4}
+tile_options=("${@:4}")
 root=$(pwd) lasmesh=$(pwd)/build/lasmesh lasgen=$(pwd)/build/lasgen
 work=$(mktemp -d /tmp/lasmesh-tiles-XXXXXX) && chmod 0755 "$work"
 mkdir "$work/cluster"
@@ -29,7 +31,7 @@ chmod +x timed
 eval "$("$root/tools/slurm_local.sh" start cluster)"
 start=$(date +%s.%N)
 sbatch --wait --array=0-$((tiles - 1)) --export=ALL,LASMESH="$work/timed" "$root/deploy/slurm/lasmesh-tile.sbatch" \
-  site.plan.json > /dev/null
+  site.plan.json "${tile_options[@]}" > /dev/null
 array_wall=$(echo "$(date +%s.%N) - $start" | bc)
 /usr/bin/time -f "%e %U %S %M" -o merge.time "$lasmesh" merge site.plan.json -o many/tileset.json -q
 read -r merge_wall merge_user merge_sys merge_kb < merge.time

@@ -51,6 +51,10 @@ CLI::App* add_tile_command(CLI::App& app, TileOptions& o) {
         ->type_name("K");
     tile->add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name")
         ->capture_default_str();
+    tile->add_option("--chunk-mb", o.chunk_mb,
+                     "Largest slice of records uploaded at once, MiB (default 16; smaller: less memory)")
+        ->type_name("MIB")
+        ->check(positive_number());
     tile->add_option("--threads", o.threads, "Threads for LAZ decoding, 1 to 1024 (default: all cores)")
         ->type_name("N")
         ->check(whole_number(1, 1024));
@@ -117,6 +121,9 @@ void run_tile(const TileOptions& o, std::ostream& log) {
     BuildOptions options;
     options.device = o.device;
     options.threads = o.threads;
+    GridOptions slices;
+    slices.chunk_mb = o.chunk_mb;
+    options.slice_bytes = accumulate_options(slices).slice_bytes; // checked as the main job checks it
     const std::size_t index =
         tile_index(o.index, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("JOB_COMPLETION_INDEX"));
     const TileReport report = lasmesh::run_tile(plan, index, options);

@@ -25,6 +25,7 @@ struct TileOptions {
     std::string plan;
     std::optional<std::size_t> index; // else SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX
     std::string device = "auto";
+    double chunk_mb = 0; // 0: the library's default slice
     int threads = 0;
     bool quiet = false;
 };
