@@ -66,7 +66,7 @@ struct SurveyStart {
 // Fills the CRS fields and the survey's notes of `r`. Throws Error as build_mesh does.
 SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptions& o, RunReport& r);
 
-// The lines --verbose shows as the read starts.
+// The detail lines (the observer's) as the read starts.
 std::string reading_line(const SurveyReader& reader, bool single_untransformed);
 std::string device_line(const ComputeDevice& device);
 

@@ -69,13 +69,12 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             tiles[k] = TileCells{};
         }
     }
-    if (!bad.empty())
+    if (!bad.empty()) // the suggestion: the tiles to run again, as an array job's indices
         throw Error(ErrorKind::input,
                     std::to_string(bad.size()) + " of " + std::to_string(plan.tiles.size()) +
                         " tiles missing or damaged: " + index_list(bad) + reasons + (bad.size() > 5 ? "\n  ..." : "") +
-                        "\nrun them again (lasmesh tile " + plan.path +
-                        " --index K, or sbatch --array=" + index_list(bad) + " ...), then merge",
-                    "tiles");
+                        "\nrun those tiles again, then merge",
+                    "tiles", index_list(bad));
 
     // The survey's headers, as one machine reads them: the frame, the CRS, the notes.
     RunReport r;

@@ -143,14 +143,16 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
             const SurveyFile& f = survey.files[input];
             const LasHeader& h = survey.header;
             throw_input_error(
-                f.path, "point record " + std::to_string(c.records) + " lies at x " +
-                            shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
-                            shortest(double(raw[1]) * h.scale[1] + h.offset[1]) +
-                            ", outside the file's header bounds (x " + shortest(f.min[0]) + " to " +
-                            shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " + shortest(f.max[1]) +
-                            "), in a tile that does not read this file, so its points would be lost: correct the "
-                            "header's bounds (lasmesh info --scan shows the true ones) and plan again, or mesh on one "
-                            "machine with --scan-bounds");
+                f.path,
+                "point record " + std::to_string(c.records) + " lies at x " +
+                    shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
+                    shortest(double(raw[1]) * h.scale[1] + h.offset[1]) + ", outside the file's header bounds (x " +
+                    shortest(f.min[0]) + " to " + shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " +
+                    shortest(f.max[1]) +
+                    "), in a tile that does not read this file, so its points would be lost: correct the "
+                    "header's bounds (a scan of its points gives the true ones) and plan again, or mesh on "
+                    "one machine reading the points for their bounds",
+                "scan_bounds");
         }
         return kept;
     };

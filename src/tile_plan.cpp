@@ -57,10 +57,10 @@ std::pair<std::uint32_t, std::uint32_t> cell_range(double low, double high, doub
 
 TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& o, double tile_size) {
     if (o.scan_bounds)
-        throw Error(
-            ErrorKind::usage,
-            "a plan reads headers only: --scan-bounds cannot be planned (give --bounds, or correct the headers)",
-            "scan_bounds");
+        throw Error(ErrorKind::usage,
+                    "a plan reads headers only: scanning the points for their bounds cannot be planned (give the "
+                    "bounds, or correct the headers)",
+                    "scan_bounds");
     if (o.skip_bad_inputs)
         throw Error(ErrorKind::usage,
                     "a plan's tiles must read every input planned: leave out bad inputs before planning instead",

@@ -168,6 +168,8 @@ std::string flag_hint(const Error& error) {
         {"device", "--device"},
         {"skip_bad_inputs", "--skip-bad-inputs"},
         {"crs", "--crs"},
+        {"index", "--index"},
+        {"tile", "--tile"},
     };
     std::vector<std::string> named;
     std::stringstream options(error.option());

@@ -136,10 +136,17 @@ void run_tile(const TileOptions& o, std::ostream& log) {
 
 void run_merge(const MergeOptions& o, std::ostream& summary) {
     const TilePlan plan = read_plan(o.plan);
-    run_with_summary(
-        o.mesh, build_options(o.mesh),
-        [&](const BuildOptions& options, BuildObserver& observer) { return merge_tiles(plan, options, &observer); },
-        summary);
+    try {
+        run_with_summary(
+            o.mesh, build_options(o.mesh),
+            [&](const BuildOptions& options, BuildObserver& observer) { return merge_tiles(plan, options, &observer); },
+            summary);
+    } catch (const Error& e) {
+        if (e.option() != "tiles") throw;
+        throw Error(e.kind(), std::string(e.what()) + ": lasmesh tile " + o.plan +
+                                  " --index K for each, or sbatch --array=" + e.suggestion() + " lasmesh-tile.sbatch " +
+                                  o.plan);
+    }
 }
 
 } // namespace lasmesh::cli
