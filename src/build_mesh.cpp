@@ -50,13 +50,13 @@ std::uint64_t resident_bytes() {
     return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
 
-namespace {
-
 std::uint64_t peak_rss_bytes() {
     rusage usage{};
     ::getrusage(RUSAGE_SELF, &usage);
     return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024; // Linux reports kilobytes
 }
+
+namespace {
 
 // The name of the .glb's scene, node, mesh and material: the input's file name without extension.
 std::string mesh_name(const std::string& input) {

@@ -51,6 +51,8 @@ struct Accumulation {
 double seconds_since(std::chrono::steady_clock::time_point start);
 // Resident memory now (Linux: /proc/self/statm); 0 where unknown.
 std::uint64_t resident_bytes();
+// The most memory resident so far.
+std::uint64_t peak_rss_bytes();
 
 // The checks on what reading takes: inputs, options that cannot work.
 void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o);
@@ -85,5 +87,12 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
                       double seconds_before);
+
+// For a plan's tile jobs and its merge (src/tile_plan.cpp): the plan's inputs; `options` with
+// the plan's read fields (grid, bounds, CRS); and open_survey of the inputs as planned, refusing
+// (Error input) an input whose size or point count changed since.
+std::vector<std::string> planned_paths(const TilePlan& plan);
+BuildOptions planned_options(const TilePlan& plan, BuildOptions options);
+SurveyStart open_planned_survey(const TilePlan& plan, const BuildOptions& planned, RunReport& r);
 
 } // namespace lasmesh

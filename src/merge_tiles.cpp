@@ -39,11 +39,8 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     const auto start = std::chrono::steady_clock::now();
     BuildObserver silent;
     BuildObserver& watch = observer ? *observer : silent;
-    std::vector<std::string> paths;
-    for (const PlannedInput& input : plan.inputs) paths.push_back(input.path);
-    BuildOptions o = options;
-    o.grid = plan.grid_request, o.bounds = plan.bounds, o.crs = plan.crs;
-    o.scan_bounds = false, o.skip_bad_inputs = false;
+    const std::vector<std::string> paths = planned_paths(plan);
+    const BuildOptions o = planned_options(plan, options);
     const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
@@ -78,12 +75,8 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
 
     // The survey's headers, as one machine reads them: the frame, the CRS, the notes.
     RunReport r;
-    SurveyStart opened = open_survey(paths, o, r);
+    SurveyStart opened = open_planned_survey(plan, o, r);
     const Survey& survey = opened.survey;
-    for (std::size_t i = 0; i < survey.files.size(); ++i)
-        if (survey.files[i].point_count != plan.inputs[i].points || survey.files[i].bytes != plan.inputs[i].bytes)
-            throw_input_error(survey.files[i].path,
-                              "changed since " + plan.path + " was written: plan again, and run every tile");
     const LasHeader& header = survey.header;
 
     CellGrid grid;
@@ -156,15 +149,10 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     std::vector<std::string> reader_warnings;
     for (auto& [input, texts] : warnings) reader_warnings.insert(reader_warnings.end(), texts.begin(), texts.end());
 
-    if (plan.grid_request.kind == GridRequest::Kind::automatic) { // as accumulate_cells chooses
-        const std::string name =
-            paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
-        const GridChoice choice =
-            choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), name);
-        const std::string coarsened = coarsen_while_sparse(grid);
-        grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
-    }
     r.input = paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
+    if (plan.grid_request.kind == GridRequest::Kind::automatic) // as accumulate_cells chooses it
+        finish_chosen_grid(
+            grid, choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), r.input));
     r.device = tiles.front().device;
     Accumulation a;
     a.memory_in_use = resident_bytes();

@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
-#include <sys/resource.h>
 
 namespace lasmesh {
 
@@ -50,12 +49,6 @@ struct TileLocator {
     }
 };
 
-std::uint64_t peak_rss() {
-    rusage usage{};
-    ::getrusage(RUSAGE_SELF, &usage);
-    return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;
-}
-
 } // namespace
 
 TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions& o, BuildObserver* observer) {
@@ -72,24 +65,9 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     const PlannedTile& tile = plan.tiles[index];
 
     // The whole survey's headers, as one machine reads them.
-    std::vector<std::string> paths;
-    for (const PlannedInput& input : plan.inputs) paths.push_back(input.path);
-    BuildOptions read = o;
-    read.grid = plan.grid_request, read.bounds = plan.bounds, read.crs = plan.crs;
-    read.scan_bounds = false, read.skip_bad_inputs = false;
     RunReport r;
-    SurveyStart opened = open_survey(paths, read, r);
+    SurveyStart opened = open_planned_survey(plan, planned_options(plan, o), r);
     const Survey& survey = opened.survey;
-    for (std::size_t i = 0; i < survey.files.size(); ++i) {
-        const SurveyFile& file = survey.files[i];
-        const PlannedInput& planned = plan.inputs[i];
-        if (file.point_count != planned.points || file.bytes != planned.bytes)
-            throw_input_error(file.path, "changed since " + plan.path + " was written (" +
-                                             std::to_string(planned.points) + " points in " +
-                                             std::to_string(planned.bytes) + " bytes then, " +
-                                             std::to_string(file.point_count) + " in " + std::to_string(file.bytes) +
-                                             " now): plan again, and run every tile");
-    }
 
     // Only the tile's inputs, in the survey's frame and layout.
     Survey part = survey;
@@ -99,7 +77,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
         part.files.push_back(survey.files[i]);
         part.header.point_count += survey.files[i].point_count;
     }
-    LasReader* single = paths.size() == 1 ? opened.single.get() : nullptr;
+    LasReader* single = plan.inputs.size() == 1 ? opened.single.get() : nullptr;
 
     const TileLocator locate(plan, survey.header);
     const std::uint32_t columns = static_cast<std::uint32_t>(locate.tile_starts[0].size() - 1);
@@ -110,9 +88,8 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     const std::size_t length = survey.header.point_record_length;
     // Keeps the records in the tile (moved to the front), counts those outside the grid, passes
     // over those of another tile that reads the file, and stops at any other.
-    const std::uint32_t window[4] = {tile.x_cells[0], tile.x_cells[1], tile.y_cells[0], tile.y_cells[1]};
-    const std::int64_t x0 = locate.axes[0].starts[window[0]], x1 = locate.axes[0].starts[window[1]];
-    const std::int64_t y0 = locate.axes[1].starts[window[2]], y1 = locate.axes[1].starts[window[3]];
+    const std::int64_t x0 = locate.axes[0].starts[tile.x_cells[0]], x1 = locate.axes[0].starts[tile.x_cells[1]];
+    const std::int64_t y0 = locate.axes[1].starts[tile.y_cells[0]], y1 = locate.axes[1].starts[tile.y_cells[1]];
     const auto keep = [&](std::size_t file, std::byte* records, std::size_t count) {
         const std::size_t input = tile.inputs[file];
         if (planned_for != input) {
@@ -205,7 +182,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     for (const TileInputCount& c : counts) report.points_read += c.records;
     report.occupied_cells = cells.cells.size();
     report.seconds = seconds_since(start);
-    report.peak_rss_bytes = peak_rss();
+    report.peak_rss_bytes = peak_rss_bytes();
     return report;
 }
 

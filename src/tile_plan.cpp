@@ -224,6 +224,32 @@ TilePlan read_plan(const std::string& path) {
     return plan;
 }
 
+std::vector<std::string> planned_paths(const TilePlan& plan) {
+    std::vector<std::string> paths;
+    for (const PlannedInput& input : plan.inputs) paths.push_back(input.path);
+    return paths;
+}
+
+BuildOptions planned_options(const TilePlan& plan, BuildOptions options) {
+    options.grid = plan.grid_request, options.bounds = plan.bounds, options.crs = plan.crs;
+    options.scan_bounds = false, options.skip_bad_inputs = false;
+    return options;
+}
+
+SurveyStart open_planned_survey(const TilePlan& plan, const BuildOptions& planned, RunReport& r) {
+    SurveyStart opened = open_survey(planned_paths(plan), planned, r);
+    for (std::size_t i = 0; i < opened.survey.files.size(); ++i) {
+        const SurveyFile& file = opened.survey.files[i];
+        const PlannedInput& then = plan.inputs[i];
+        if (file.point_count != then.points || file.bytes != then.bytes)
+            throw_input_error(file.path, "changed since " + plan.path + " was written (" + std::to_string(then.points) +
+                                             " points in " + std::to_string(then.bytes) + " bytes then, " +
+                                             std::to_string(file.point_count) + " in " + std::to_string(file.bytes) +
+                                             " now): plan again, and run every tile");
+    }
+    return opened;
+}
+
 std::string tiles_folder(const TilePlan& plan) {
     std::filesystem::path p(plan.path);
     const std::string stem = p.extension() == ".json" ? p.stem().string() : p.filename().string();

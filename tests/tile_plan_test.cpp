@@ -116,4 +116,7 @@ TEST_CASE("plan_tiles, run_tile and merge_tiles: the outputs of build_mesh, byte
     CHECK(result.report.points_read == 80000);
     CHECK(test::read_file(dir.file("merged.ply")) == test::read_file(dir.file("one.ply")));
     CHECK(contains(error_text([&] { run_tile(read, read.tiles.size(), options); }), "its tiles are 0 to"));
+    BuildOptions scanned = options;
+    scanned.scan_bounds = true;
+    CHECK(contains(error_text([&] { plan_tiles({input}, scanned, 2.5); }), "a plan reads headers only"));
 }

@@ -11,7 +11,7 @@
 
 namespace lasmesh::cli {
 
-void add_grid_options(CLI::App& command, GridOptions& o) {
+void add_cell_options(CLI::App& command, GridOptions& o, bool with_scan_bounds) {
     command
         .add_option(
             "--grid", o.grid,
@@ -28,11 +28,15 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
         command
             .add_option("--bounds", o.bounds, "The box to cover instead of the header bounds; not with --scan-bounds")
             ->type_name("MINX,MINY,MINZ,MAXX,MAXY,MAXZ");
-    command
-        .add_flag("--scan-bounds", o.scan_bounds,
-                  "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
-                  "then to grid them; files only, not standard input; not with --bounds")
-        ->excludes(bounds);
+    if (with_scan_bounds)
+        command
+            .add_flag("--scan-bounds", o.scan_bounds,
+                      "Read the file twice: first for the points' real bounds (header bounds can be wrong), "
+                      "then to grid them; files only, not standard input; not with --bounds")
+            ->excludes(bounds);
+}
+
+void add_device_options(CLI::App& command, GridOptions& o) {
     command
         .add_option("--device", o.device,
                     "OpenCL device: auto (a GPU if any), an index or part of a name (see `lasmesh devices`)")
@@ -49,6 +53,11 @@ void add_grid_options(CLI::App& command, GridOptions& o) {
                     "Refuse grids needing more than this, MiB, host and device together")
         ->type_name("MIB")
         ->check(positive_number());
+}
+
+void add_grid_options(CLI::App& command, GridOptions& o) {
+    add_cell_options(command, o, true);
+    add_device_options(command, o);
 }
 
 AccumulateOptions accumulate_options(const GridOptions& o) {

@@ -22,6 +22,10 @@ struct GridOptions {
 };
 
 void add_grid_options(CLI::App& command, GridOptions& options);
+// Its two halves: the cells (--grid, --voxel, --bounds, and --scan-bounds when asked for), and the
+// device (--device, --chunk-mb, --max-memory).
+void add_cell_options(CLI::App& command, GridOptions& options, bool with_scan_bounds);
+void add_device_options(CLI::App& command, GridOptions& options);
 
 // Checks and converts the options; throws Error (usage) quoting a bad value. --grid auto is the
 // default GridRequest, which accumulate_cells resolves from the data.

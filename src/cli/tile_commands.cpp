@@ -35,7 +35,7 @@ CLI::App* add_plan_command(CLI::App& app, PlanOptions& o) {
     plan->add_option("-o,--output", o.output, "The plan (JSON); its tiles' cells go to a folder beside it")
         ->type_name("PLAN.json")
         ->required();
-    add_grid_options(*plan, o.survey.grid);
+    add_cell_options(*plan, o.survey.grid, false); // a plan reads headers only: no scan, no device
     return plan;
 }
 
@@ -49,12 +49,7 @@ CLI::App* add_tile_command(CLI::App& app, TileOptions& o) {
     tile->add_option("--index", o.index,
                      "The tile, from 0; default: SLURM_ARRAY_TASK_ID, else JOB_COMPLETION_INDEX (Kubernetes)")
         ->type_name("K");
-    tile->add_option("--device", o.device, "OpenCL device: auto (a GPU if any), an index or part of a name")
-        ->capture_default_str();
-    tile->add_option("--chunk-mb", o.chunk_mb,
-                     "Largest slice of records uploaded at once, MiB (default 16; smaller: less memory)")
-        ->type_name("MIB")
-        ->check(positive_number());
+    add_device_options(*tile, o.device);
     tile->add_option("--threads", o.threads, "Threads for LAZ decoding, 1 to 1024 (default: all cores)")
         ->type_name("N")
         ->check(whole_number(1, 1024));
@@ -79,7 +74,6 @@ void run_plan(const PlanOptions& o, std::ostream& out) {
     const AccumulateOptions accumulate = accumulate_options(o.survey.grid);
     options.grid = accumulate.grid;
     options.bounds = accumulate.bounds;
-    options.scan_bounds = o.survey.grid.scan_bounds;
     options.crs = o.survey.crs;
     TilePlan plan = plan_tiles(all_inputs(o.survey), options, o.tile);
     write_plan(plan, o.output);
@@ -119,11 +113,11 @@ std::size_t tile_index(const std::optional<std::size_t>& given, const char* slur
 void run_tile(const TileOptions& o, std::ostream& log) {
     const TilePlan plan = read_plan(o.plan);
     BuildOptions options;
-    options.device = o.device;
+    const AccumulateOptions device = accumulate_options(o.device);
+    options.device = o.device.device;
+    options.slice_bytes = device.slice_bytes;
+    options.max_memory = device.max_memory;
     options.threads = o.threads;
-    GridOptions slices;
-    slices.chunk_mb = o.chunk_mb;
-    options.slice_bytes = accumulate_options(slices).slice_bytes; // checked as the main job checks it
     const std::size_t index =
         tile_index(o.index, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("JOB_COMPLETION_INDEX"));
     const TileReport report = lasmesh::run_tile(plan, index, options);

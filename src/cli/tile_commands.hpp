@@ -24,8 +24,7 @@ struct PlanOptions {
 struct TileOptions {
     std::string plan;
     std::optional<std::size_t> index; // else SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX
-    std::string device = "auto";
-    double chunk_mb = 0; // 0: the library's default slice
+    GridOptions device;               // --device, --chunk-mb, --max-memory
     int threads = 0;
     bool quiet = false;
 };

@@ -509,8 +509,7 @@ CellGrid accumulate_cells(SurveyReader& reader, ComputeDevice& device, const Acc
     AccumulateOptions chosen = options;
     chosen.grid = choice.request;
     CellGrid grid = accumulate_into(reader, device, chosen);
-    const std::string coarsened = coarsen_while_sparse(grid);
-    grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
+    finish_chosen_grid(grid, choice);
     return grid;
 }
 

@@ -41,6 +41,10 @@ constexpr std::uint64_t auto_grid_min_median = 4;
 // what was done, for the summary ("" when nothing).
 std::string coarsen_while_sparse(CellGrid& grid);
 
+// The automatic grid's second look at a grid accumulated as `choice` asked: coarsen_while_sparse,
+// and grid_reason says why it is this grid ("auto: ...").
+void finish_chosen_grid(CellGrid& grid, const GridChoice& choice);
+
 // The grid with cells twice as large: each cell the exact sums of the 2 x 2 x 2 cells it covers
 // (the last cell along an odd axis covers one and ends where the fine grid ended). Otherwise
 // the grid accumulating at that cell size gives.

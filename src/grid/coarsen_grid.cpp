@@ -89,4 +89,9 @@ std::string coarsen_while_sparse(CellGrid& grid) {
            std::to_string(auto_grid_min_median) + " points, now " + std::to_string(median);
 }
 
+void finish_chosen_grid(CellGrid& grid, const GridChoice& choice) {
+    const std::string coarsened = coarsen_while_sparse(grid);
+    grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
+}
+
 } // namespace lasmesh
