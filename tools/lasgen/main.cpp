@@ -3,6 +3,9 @@
 // batches (memory does not grow with the point count) and deterministic for a seed.
 #include "las_writer.hpp"
 #include "scene.hpp"
+#include "truth.hpp"
+
+#include "lasmesh/mesh_files.hpp"
 
 #include <CLI/CLI.hpp>
 #include <tbb/parallel_for.h>
@@ -12,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -37,6 +41,8 @@ struct Options {
     std::uint32_t split = 1;    // write the points into this many files
     bool split_vary = false;    // each file of a split its own offset, scale and point format
     std::uint32_t split_xy = 0; // write the points into N x N files by their x and y
+    std::string measure;        // measure this mesh against the scene's true surfaces instead
+    std::string json;           // and write the measurement as JSON here too
 };
 
 // A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
@@ -181,6 +187,17 @@ void generate(const Options& o) {
     if (!o.color.empty())
         for (int c = 0; c < 3; ++c) scene_options.color[c] = static_cast<std::uint8_t>(o.color[c]);
     const lasgen::Scene scene = lasgen::make_scene(scene_options);
+    if (!o.measure.empty()) {
+        const lasgen::TruthOptions truth;
+        const lasgen::TruthReport report = lasgen::measure_against_truth(scene, lasmesh::read_mesh(o.measure), truth);
+        std::cout << lasgen::truth_table(report, truth);
+        if (!o.json.empty()) {
+            std::ofstream out(o.json);
+            out << lasgen::truth_json(report, truth);
+            if (!out.flush()) throw std::runtime_error("cannot write " + o.json + ": " + std::strerror(errno));
+        }
+        return;
+    }
 
     lasgen::LasLayout layout;
     if (o.version.size() != 3 || o.version.compare(0, 2, "1.") != 0 || o.version[2] < '0' || o.version[2] > '4')
@@ -260,6 +277,10 @@ int main(int argc, char** argv) {
     app.add_flag("--split-vary", o.split_vary,
                  "Each file of --split its own offset (whole metres apart), odd files half the scale, every "
                  "third file in point format 2 or 7");
+    app.add_option("--measure", o.measure,
+                   "Measure this mesh (.ply, .drc, .glb) against the scene's true surfaces, part by part, "
+                   "instead of writing points (give the scene options the points were made with)");
+    app.add_option("--json", o.json, "With --measure: also write the measurement as JSON to this file");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -269,7 +290,7 @@ int main(int argc, char** argv) {
         generate(o);
     } catch (const std::exception& e) {
         std::cerr << "lasgen: " << e.what() << '\n';
-        if (o.output != "-") std::remove(o.output.c_str());
+        if (o.measure.empty() && o.output != "-") std::remove(o.output.c_str());
         return 2;
     }
     return 0;

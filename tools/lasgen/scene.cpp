@@ -91,38 +91,53 @@ Primitive round_shape(PrimitiveKind kind, double radius, double minor_radius, Rg
     return p;
 }
 
+// Names the part of every primitive from `first` on.
+void name_part(std::vector<Primitive>& primitives, std::size_t first, const char* part) {
+    for (std::size_t i = first; i < primitives.size(); ++i) primitives[i].part = part;
+}
+
 void add_deck(Scene& s) {
     const double length_x = 64, width_y = 24;
     const Rgb8 deck_grey{118, 122, 126}, white{236, 236, 230}, yellow{232, 190, 30}, pipe_blue{62, 104, 160},
         crane_blue{30, 70, 150};
     auto& p = s.primitives;
     p.push_back(quad({0, 0, 0}, {length_x, 0, 0}, {0, width_y, 0}, deck_grey, true));
+    name_part(p, 0, "deck");
 
     // Deckhouse: four thin walls and a roof, each scanned on both faces.
     const double hx = 44, hy = 6, lx = 14, ly = 12, hz = 7, t = 0.03;
+    std::size_t first = p.size();
     plate(p, {hx, hy, 0}, {lx, 0, 0}, {0, 0, hz}, t, white);
     plate(p, {hx, hy + ly, 0}, {lx, 0, 0}, {0, 0, hz}, t, white);
     plate(p, {hx, hy, 0}, {0, ly, 0}, {0, 0, hz}, t, white);
     plate(p, {hx + lx, hy, 0}, {0, ly, 0}, {0, 0, hz}, t, white);
     plate(p, {hx, hy, hz}, {lx, 0, 0}, {0, ly, 0}, t, white);
+    name_part(p, first, "walls");
+    first = p.size();
 
     container(p, {6, 3, 0}, {12, 2.5, 2.6}, {220, 110, 30});
     container(p, {6, 7, 0}, {6, 2.5, 2.6}, {30, 80, 160});
     container(p, {20, 3, 0}, {6, 2.5, 2.6}, {180, 30, 30});
     container(p, {22, 15, 0}, {6, 2.5, 5.2}, {40, 140, 60});
+    name_part(p, first, "containers");
     s.footprints = {{6, 3, 18, 5.5}, {6, 7, 12, 9.5}, {20, 3, 26, 5.5}, {22, 15, 28, 17.5}};
 
     // Railings along both long edges: top and middle rails, posts every two metres.
+    first = p.size();
     for (double y : {0.3, width_y - 0.3}) {
         p.push_back(cylinder({0.5, y, 1.1}, {length_x - 1, 0, 0}, 0.03, yellow));
         p.push_back(cylinder({0.5, y, 0.55}, {length_x - 1, 0, 0}, 0.02, yellow));
         for (double x = 0.5; x <= length_x - 0.5; x += 2) p.push_back(cylinder({x, y, 0}, {0, 0, 1.1}, 0.025, yellow));
     }
+    name_part(p, first, "railings");
     // Pipes along the starboard side, a riser, and a crane pedestal.
+    first = p.size();
     p.push_back(cylinder({2, 21.5, 0.8}, {38, 0, 0}, 0.25, pipe_blue));
     p.push_back(cylinder({2, 20.8, 1.5}, {38, 0, 0}, 0.12, pipe_blue));
     p.push_back(cylinder({40, 21.5, 0}, {0, 0, 6}, 0.25, pipe_blue));
+    name_part(p, first, "pipes");
     p.push_back(cylinder({34, 12, 0}, {0, 0, 5}, 1.2, crane_blue));
+    name_part(p, p.size() - 1, "crane");
 
     // Scan shadows: no points in these balls on the deck and the deckhouse walls.
     s.holes = {{{10, 12, 0}, 1.5}, {{30, 8, 0}, 2.0}, {{52, 20, 0}, 1.2}, {{48, 6, 3}, 1.0}, {{58, 12, 4}, 1.3}};
@@ -134,6 +149,7 @@ void add_deck(Scene& s) {
         Primitive ball = round_shape(PrimitiveKind::ball, 0.4, 0, {170, 170, 170});
         ball.origin = centre;
         ball.classification = 7; // LAS class "low point (noise)"
+        ball.part = "outliers";
         ball.weight = surface * 0.001;
         p.push_back(ball);
     }
@@ -148,6 +164,13 @@ Vec3 tilt(const Scene& s, const Vec3& p) {
     double cx = std::cos(s.tilt_x), sx = std::sin(s.tilt_x), cy = std::cos(s.tilt_y), sy = std::sin(s.tilt_y);
     Vec3 a{p[0], cx * p[1] - sx * p[2], sx * p[1] + cx * p[2]};
     return {cy * a[0] + sy * a[2], a[1], -sy * a[0] + cy * a[2]};
+}
+
+// The inverse rotation: back about y, then back about x.
+Vec3 untilt(const Scene& s, const Vec3& p) {
+    double cx = std::cos(s.tilt_x), sx = std::sin(s.tilt_x), cy = std::cos(s.tilt_y), sy = std::sin(s.tilt_y);
+    Vec3 a{cy * p[0] - sy * p[2], p[1], sy * p[0] + cy * p[2]};
+    return {a[0], cx * a[1] + sx * a[2], -sx * a[1] + cx * a[2]};
 }
 
 // Exact axis-aligned bounds of a primitive after the scene's tilt (a rotation, so it applies to
@@ -232,13 +255,7 @@ Vec3 sample_primitive(const Primitive& p, Random& rng) {
 }
 
 bool in_hole(const Scene& s, const Vec3& q) {
-    for (const auto& [x0, y0, x1, y1] : s.footprints)
-        if (q[0] > x0 && q[0] < x1 && q[1] > y0 && q[1] < y1) return true;
-    for (const Hole& h : s.holes) {
-        Vec3 d{q[0] - h.centre[0], q[1] - h.centre[1], q[2] - h.centre[2]};
-        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < h.radius * h.radius) return true;
-    }
-    return false;
+    return under_footprint(s, q) || in_shadow(s, q);
 }
 
 // Relative point density along the deck: 1 near the scanner station at x = 24 m, falling to
@@ -249,6 +266,34 @@ double density(const Vec3& q) {
 }
 
 } // namespace
+
+bool under_footprint(const Scene& s, const Vec3& q) {
+    for (const auto& [x0, y0, x1, y1] : s.footprints)
+        if (q[0] > x0 && q[0] < x1 && q[1] > y0 && q[1] < y1) return true;
+    return false;
+}
+
+bool in_shadow(const Scene& s, const Vec3& q) {
+    for (const Hole& h : s.holes) {
+        Vec3 d{q[0] - h.centre[0], q[1] - h.centre[1], q[2] - h.centre[2]};
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < h.radius * h.radius) return true;
+    }
+    return false;
+}
+
+Vec3 sample_on(const Primitive& p, std::uint64_t index) {
+    Random rng{index * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull};
+    rng.next();
+    return sample_primitive(p, rng);
+}
+
+Vec3 to_world(const Scene& s, const Vec3& local) {
+    return add(tilt(s, local), s.origin);
+}
+
+Vec3 to_local(const Scene& s, const Vec3& world) {
+    return untilt(s, {world[0] - s.origin[0], world[1] - s.origin[1], world[2] - s.origin[2]});
+}
 
 SceneKind parse_scene_kind(const std::string& name) {
     if (name == "sphere") return SceneKind::sphere;
@@ -283,6 +328,8 @@ Scene make_scene(const SceneOptions& o) {
         break;
     }
     if (o.noise >= 0) s.noise_sigma = o.noise;
+    for (Primitive& p : s.primitives)
+        if (p.part.empty()) p.part = s.name;
     finish(s);
     return s;
 }

@@ -34,6 +34,9 @@ struct Primitive {
     double radius = 0, minor_radius = 0;
     Rgb8 color{};
     std::uint8_t classification = 1;
+    // What the primitive is part of ("deck", "railings", ...), for errors by part
+    // (truth.hpp); "outliers" are not a surface.
+    std::string part;
     bool can_have_holes = false;
     double weight = 0; // share of the points, relative to the other primitives
 };
@@ -68,6 +71,17 @@ struct SceneOptions {
 
 Scene make_scene(const SceneOptions& options);
 GeneratedPoint generate_point(const Scene& scene, std::uint64_t seed, std::uint64_t index);
+
+// A point spread uniformly by area over the primitive's surface (its volume for a ball),
+// depending only on `index`; no noise, no tilt.
+Vec3 sample_on(const Primitive& primitive, std::uint64_t index);
+// Scene coordinates (before tilt and origin) to world coordinates, and back.
+Vec3 to_world(const Scene& scene, const Vec3& local);
+Vec3 to_local(const Scene& scene, const Vec3& world);
+// A local point under something standing on the deck, where no scanner sees the deck.
+bool under_footprint(const Scene& scene, const Vec3& local);
+// A local point in a scan shadow: the surface is there, the scan has no points of it.
+bool in_shadow(const Scene& scene, const Vec3& local);
 SceneKind parse_scene_kind(const std::string& name); // throws std::invalid_argument
 
 } // namespace lasgen
