@@ -5,8 +5,11 @@
 #include "build_steps.hpp"
 #include "number_text.hpp"
 
+#include "byte_order.hpp"
 #include "grid/auto_grid.hpp"
 #include "grid/cell_sums.hpp"
+#include "grid/compute_device.hpp"
+#include "grid/thin_parts.hpp"
 #include "io/output_file.hpp"
 #include "io/ply_writer.hpp"
 #include "io/same_file.hpp"
@@ -16,18 +19,23 @@
 #include "lasmesh/normals.hpp"
 #include "measure/level_error.hpp"
 #include "mesh/marching_cubes.hpp"
+#include "mesh/mesh_edit.hpp"
 #include "mesh/surface_sheet.hpp"
 #include "read/crs.hpp"
 #include "read/input_stream.hpp"
 #include "read/las_scan.hpp"
 #include "read/survey.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -192,11 +200,20 @@ void check_read_options(const std::vector<std::string>& inputs, const BuildOptio
     if (inputs.empty()) usage_error("inputs", "no input given: nothing to mesh");
     if (o.scan_bounds)
         for (const std::string& input : inputs) check_rereadable(input);
+    if (o.refine_thin)
+        for (const std::string& input : inputs)
+            if (input == "-" || !std::filesystem::is_regular_file(input))
+                usage_error("refine_thin", "refining thin parts reads the inputs twice, so it needs regular files, "
+                                           "not \"" +
+                                               input + "\": save the stream to a file");
 }
 
 // The checks on what meshing and writing take; returns each output's format.
 std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
     if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
+    if (o.refine_thin && o.surface != SurfaceKind::sheet)
+        usage_error("refine_thin", "thin parts are refined for the sheet surface only: the closed surface wraps "
+                                   "the occupied cells whatever their size");
     std::vector<MeshFormat> formats;
     for (const OutputRequest& output : o.outputs) formats.push_back(output_format(output));
     for (const OutputRequest& output : o.outputs) check_output_folder(output.path);
@@ -322,6 +339,20 @@ SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptio
     return start;
 }
 
+void fit_grid_to_points(CellGrid& grid, const BuildOptions& o, std::vector<std::string>& notes) {
+    if (o.iso && *o.iso < 1) return;
+    const std::string asked = std::to_string(grid.spec.dims[0]) + " x " + std::to_string(grid.spec.dims[1]) + " x " +
+                              std::to_string(grid.spec.dims[2]);
+    const int merged = coarsen_while_single_points(grid);
+    if (merged == 0) return;
+    const std::string times = std::to_string(1 << merged) + " times coarser";
+    grid.grid_reason += (grid.grid_reason.empty() ? "" : "; ") + times + " than the " + asked + " asked for, too fine";
+    notes.push_back("note: the grid asked for, " + asked +
+                    " cells, is too fine for these points: more than half of its occupied cells held a single point, "
+                    "which no surface goes through; meshed " +
+                    times + ", where they hold a median of " + std::to_string(grid.median_count()));
+}
+
 void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
                  bool note_outputs, const BuildOptions& o, double seconds, BuildObserver& watch, Accumulation& a,
                  RunReport& r) {
@@ -406,14 +437,84 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
         reader_warnings = reader.warnings();
         break;
     }
+    fit_grid_to_points(grid, o, reader_warnings);
     report_grid(grid, survey, reader_warnings, note_outputs, o, seconds_since(start), watch, a, r);
+}
+
+std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
+                                            const CellGrid& grid, BuildObserver& watch, RunReport& r) {
+    const auto start = std::chrono::steady_clock::now();
+    Refinement refined;
+    refined.bricks = thin_bricks(grid, o.iso ? *o.iso : automatic_iso(grid));
+    r.thin_bricks = refined.bricks.size();
+    if (refined.bricks.empty()) return std::nullopt;
+    RunReport again; // the first read reported the survey's notes
+    SurveyStart opened = open_survey(inputs, o, again);
+    AccumulateOptions accumulate = opened.accumulate;
+    GridSpec fine = grid.spec;
+    fine.cell_size /= 2; // exact: the fine cells split the grid's cells in two on every axis
+    for (std::uint32_t& d : fine.dims) d *= 2;
+    accumulate.spec = fine;
+    accumulate.memory_in_use = resident_bytes();
+    // Only the points in the thin parts' bricks reach the device (the survey's frame: the same
+    // raw integers the grid's cell starts are in). Each axis's brick of a raw value comes from a
+    // table over the grid's raw values when it spans at most 4M of them, else from the starts.
+    const std::size_t length = opened.survey.header.point_record_length;
+    std::array<std::vector<std::uint16_t>, 3> brick_table;
+    for (int a = 0; a < 3; ++a) {
+        const std::vector<std::int64_t>& starts = grid.axes[a].starts;
+        if (starts.back() - starts.front() > (std::int64_t{1} << 22)) continue;
+        brick_table[a].resize(static_cast<std::size_t>(starts.back() - starts.front()));
+        for (std::size_t c = 0; c + 1 < starts.size(); ++c)
+            std::fill(brick_table[a].begin() + (starts[c] - starts.front()),
+                      brick_table[a].begin() + (starts[c + 1] - starts.front()),
+                      static_cast<std::uint16_t>(c >> CellGrid::brick_bits));
+    }
+    const auto brick_of = [&](int a, std::int64_t raw) -> std::int64_t {
+        const std::vector<std::int64_t>& starts = grid.axes[a].starts;
+        if (raw < starts.front() || raw >= starts.back()) return -1;
+        if (!brick_table[a].empty()) return brick_table[a][static_cast<std::size_t>(raw - starts.front())];
+        return (std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1) >> CellGrid::brick_bits;
+    };
+    const BrickTable thin(refined.bricks);
+    std::vector<char> keep;
+    SurveyReader reader(opened.survey, opened.single.get());
+    reader.on_records([&](std::size_t, std::byte* records, std::size_t count) {
+        keep.assign(count, 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16384), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const std::byte* at = records + i * length;
+                const std::int64_t x = brick_of(0, load_le<std::int32_t>(at)),
+                                   y = brick_of(1, load_le<std::int32_t>(at + 4)),
+                                   z = brick_of(2, load_le<std::int32_t>(at + 8));
+                if (x < 0 || y < 0 || z < 0) continue;
+                keep[i] = thin.find((std::uint64_t(z) * grid.bricks[1] + std::uint64_t(y)) * grid.bricks[0] +
+                                    std::uint64_t(x)) != 0;
+            }
+        });
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            if (keep[i]) {
+                if (kept != i) std::memmove(records + kept * length, records + i * length, length);
+                ++kept;
+            }
+        return kept;
+    });
+    watch.stage_started(BuildStage::read_accumulate, "reading the thin parts again");
+    ComputeDevice device(o.device);
+    refined.fine = accumulate_cells(reader, device, accumulate);
+    r.thin_read = seconds_since(start);
+    watch.detail("thin parts     " + std::to_string(refined.bricks.size()) + " bricks read again at cells of " +
+                 four_digits(fine.cell_size) + ": " + std::to_string(refined.fine.occupied_cells()) +
+                 " occupied cells, in " + two_digits(r.thin_read) + " s");
+    return refined;
 }
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
-                      double seconds_before) {
+                      double seconds_before, const Refinement* refined) {
     const auto mesh_start = std::chrono::steady_clock::now();
     BuildResult result;
     watch.stage_started(BuildStage::extract, "extracting the surface");
@@ -436,6 +537,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     // Extraction, small pieces, simplification and normals: the mesh of one grid.
     const auto surface_of = [&](CellGrid&& cells, double iso, PieceCount* pieces, SimplifyReport* simplified) {
         const double cell = cells.spec.cell_size;
+        const GridSpec spec = cells.spec;
         std::shared_ptr<const Accumulation::Surface> kept; // the finest level's, when it has the same options
         if (pieces && a.keeps_surface) {
             const std::lock_guard lock(a.surface_mutex);
@@ -453,6 +555,12 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             // The sheet releases the grid's cells as soon as it no longer reads them.
             m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
                                                 : extract_closed_surface(cells, iso, o.placement);
+            if (refined && pieces) { // the thin parts' bricks from the finer grid, the rest from this one
+                Mesh thin = extract_sheet(refined->fine, r.iso_auto ? automatic_iso(refined->fine) : iso / 4);
+                keep_triangles_in_bricks(thin, spec, refined->bricks, true);
+                keep_triangles_in_bricks(m, spec, refined->bricks, false);
+                append_mesh(m, thin);
+            }
             cells = CellGrid{}; // not needed any more: the writers get its memory
             extracted = m.triangles.size();
             if (pieces)
@@ -472,7 +580,23 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         if (pieces && simplify.error > 0)
             watch.stage_started(BuildStage::extract,
                                 "simplifying " + std::to_string(m.triangles.size()) + " triangles");
-        const SimplifyReport report = simplify_mesh(m, simplify);
+        SimplifyReport report;
+        if (refined && pieces && simplify.error > 0) {
+            // Each part to its own cell's share: the thin parts' bound is half the rest's.
+            Mesh thin = m;
+            keep_triangles_in_bricks(thin, spec, refined->bricks, true);
+            keep_triangles_in_bricks(m, spec, refined->bricks, false);
+            SimplifyOptions finer = simplify;
+            finer.error /= 2;
+            report = simplify_mesh(m, simplify);
+            const SimplifyReport thin_report = simplify_mesh(thin, finer);
+            report.triangles_before += thin_report.triangles_before;
+            report.triangles_after += thin_report.triangles_after;
+            report.seconds += thin_report.seconds;
+            append_mesh(m, thin);
+        } else {
+            report = simplify_mesh(m, simplify);
+        }
         if (pieces && simplify.error > 0)
             watch.detail("simplified     " + std::to_string(report.triangles_before) + " to " +
                          std::to_string(report.triangles_after) + " triangles within " + four_digits(simplify.error) +
@@ -596,7 +720,13 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     Accumulation a;
     RunReport r;
     accumulate_survey(inputs, o, true, watch, a, r);
-    return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start));
+    std::optional<Refinement> refined;
+    if (o.refine_thin) {
+        refined = refine_thin_parts(inputs, o, a.grid, watch, r);
+        r.read_accumulate += r.thin_read;
+    }
+    return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start),
+                     refined ? &*refined : nullptr);
 }
 
 AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, const BuildOptions& o,
@@ -620,6 +750,9 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
     if (!same_read_options(a.read_options, o))
         usage_error("grid", "these options read the inputs differently (grid, bounds, CRS, device or memory) from "
                             "the accumulation they are meant to mesh: accumulate the inputs again with them");
+    if (o.refine_thin)
+        usage_error("refine_thin",
+                    "refining thin parts reads the inputs again: mesh them with build_mesh(inputs, ...)");
     const std::vector<MeshFormat> formats = check_mesh_options(accumulated.inputs, o);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);

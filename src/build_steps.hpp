@@ -72,6 +72,11 @@ SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptio
 std::string reading_line(const SurveyReader& reader, bool single_untransformed);
 std::string device_line(const ComputeDevice& device);
 
+// The accumulated grid is the finest the mesh uses: one too fine for the points (most occupied
+// cells a single point) is coarsened exactly, said in its grid_reason and in a note added to
+// `notes`. Not when the iso asked for is below 1 (then a lone point is a surface cell too).
+void fit_grid_to_points(CellGrid& grid, const BuildOptions& o, std::vector<std::string>& notes);
+
 // The read's fields of `r` from the accumulated grid (r.input and r.device set before), and
 // what `a` keeps of the survey; the outputs' placement notes when `note_outputs`.
 void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
@@ -84,9 +89,20 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took.
+// Thin parts meshed again at half the cell (BuildOptions::refine_thin): the bricks of the grid
+// they lie in, with the bricks around them, and the grid of half the cell holding their points.
+struct Refinement {
+    std::vector<std::uint64_t> bricks; // keys of the grid's bricks, ascending
+    CellGrid fine;
+};
+// Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
+// in their bricks; nothing when there are none. Sets r.thin_bricks and r.thin_read.
+std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
+                                            const CellGrid& grid, BuildObserver& watch, RunReport& r);
+
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
-                      double seconds_before);
+                      double seconds_before, const Refinement* refined = nullptr);
 
 // For a plan's tile jobs and its merge (src/tile_plan.cpp): the plan's inputs; `options` with
 // the plan's read fields (grid, bounds, CRS); and open_survey of the inputs as planned, refusing

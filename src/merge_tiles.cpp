@@ -41,6 +41,10 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     BuildObserver& watch = observer ? *observer : silent;
     const std::vector<std::string> paths = planned_paths(plan);
     const BuildOptions o = planned_options(plan, options);
+    if (o.refine_thin)
+        throw Error(ErrorKind::usage,
+                    "thin parts are not refined when merging tiles yet: the tiles hold the grid's cells only",
+                    "refine_thin");
     const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
@@ -153,6 +157,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     if (plan.grid_request.kind == GridRequest::Kind::automatic) // as accumulate_cells chooses it
         finish_chosen_grid(
             grid, choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), r.input));
+    fit_grid_to_points(grid, o, reader_warnings);
     r.device = tiles.front().device;
     Accumulation a;
     a.memory_in_use = resident_bytes();

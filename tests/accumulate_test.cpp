@@ -707,3 +707,21 @@ TEST_CASE("--grid auto's second look: coarsened until the occupied cells' median
     CHECK(said.find(std::to_string(1 << merges) + " times coarser") != std::string::npos);
     CHECK(coarsen_while_sparse(grid).empty()); // dense enough: left alone
 }
+
+TEST_CASE("a grid too fine for its points: coarsened while most occupied cells hold a single point") {
+    test::TempDir dir;
+    write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 20000, 4);
+    CellGrid grid = accumulate_file(dir.file("s.las"), grid_of("1024"));
+    REQUIRE(grid.median_count() == 1);
+    CellGrid by_hand = accumulate_file(dir.file("s.las"), grid_of("1024"));
+    int merges = 0;
+    while (by_hand.median_count() == 1) by_hand = coarsen_grid(by_hand), ++merges;
+    REQUIRE(merges >= 1);
+    CHECK(coarsen_while_single_points(grid) == merges);
+    CHECK(grid.spec.dims == by_hand.spec.dims);
+    CHECK(grid.median_count() > 1);
+    CHECK(grid.occupied_cells() == by_hand.occupied_cells());
+    CHECK(grid.points_read == by_hand.points_read);
+    CHECK(coarsen_while_single_points(grid) == 0);     // two points a cell or more: left alone
+    CHECK(grid.median_count() < auto_grid_min_median); // finer than the automatic grid's look would leave it
+}

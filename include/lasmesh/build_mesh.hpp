@@ -74,10 +74,13 @@ struct BuildOptions {
     MinPiece min_piece;                                   // default: 5% of the mesh diagonal
     SimplifyRequest simplify;                             // default: half a cell (see SimplifyRequest)
     bool normals = true;                                  // per-vertex normals in every output
-    std::string device = "auto";                          // "auto" (a GPU if any), an index or part of a name
-    int threads = 0;                                      // extraction threads; 0: all cores
-    std::uint64_t slice_bytes = 0;                        // largest upload to the device; 0: 16 MiB
-    std::uint64_t max_memory = 0;                         // refuse grids needing more (host and device); 0: no limit
+    // Thin parts (rails, posts, cables: thinner than about a cell in two directions) meshed
+    // again at half the cell, from a second read of the inputs (files only; the sheet only).
+    bool refine_thin = false;
+    std::string device = "auto";   // "auto" (a GPU if any), an index or part of a name
+    int threads = 0;               // extraction threads; 0: all cores
+    std::uint64_t slice_bytes = 0; // largest upload to the device; 0: 16 MiB
+    std::uint64_t max_memory = 0;  // refuse grids needing more (host and device); 0: no limit
     std::vector<OutputRequest> outputs;
     std::string report;     // also write the RunReport as JSON here (run_report_json); empty: none
     bool keep_mesh = false; // return the mesh in BuildResult (it can be large)
@@ -113,6 +116,10 @@ struct RunReport {
     std::uint64_t host_grid_bytes = 0; // the grid as the host keeps it: occupied cells only
     PieceCount pieces;
     SimplifyReport simplify; // triangles before and after, the bound in file units, seconds
+    // With refine_thin: the bricks (4 x 4 x 4 cells) meshed at half the cell, and the seconds
+    // their second read took (counted in read_accumulate).
+    std::uint64_t thin_bricks = 0;
+    double thin_read = 0;
     std::size_t vertices = 0, triangles = 0;
     bool colored = false, normals = false;
     Vec3 origin{}; // output positions are relative to it

@@ -33,6 +33,7 @@ std::string command_line(const MeshOptions& o) {
     for (const std::string& output : o.outputs) word("-o"), word(output);
     option("--crs", o.crs, d.crs);
     flag("--skip-bad-inputs", o.skip_bad_inputs);
+    flag("--refine-thin", o.refine_thin);
     option("--grid", o.grid.grid, d.grid.grid);
     if (o.grid.voxel) word("--voxel"), word(format_double(*o.grid.voxel));
     option("--bounds", o.grid.bounds, d.grid.bounds);

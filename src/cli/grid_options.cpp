@@ -15,7 +15,8 @@ void add_cell_options(CLI::App& command, GridOptions& o, bool with_scan_bounds) 
     command
         .add_option(
             "--grid", o.grid,
-            "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes")
+            "Cells along the longest axis (N), or NXxNYxNZ, or auto (from the points' density); cells are cubes; the "
+            "finest the mesh uses (coarsened while most occupied cells hold a single point)")
         ->type_name("N|NXxNYxNZ|auto")
         ->capture_default_str();
     command

@@ -121,6 +121,9 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
                  "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     add_meshing_options(app, o, true);
+    app.add_flag("--refine-thin", o.refine_thin,
+                 "Mesh thin parts (rails, posts, cables: thinner than about a cell in two directions) at half the "
+                 "cell, from a second read of the input files; the sheet only");
 }
 
 BuildOptions build_options(const MeshOptions& o, bool need_output) {
@@ -138,6 +141,7 @@ BuildOptions build_options(const MeshOptions& o, bool need_output) {
         b.outputs.push_back(preview);
     }
     b.report = o.report;
+    b.refine_thin = o.refine_thin;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
     b.bounds = accumulate.bounds;

@@ -17,6 +17,7 @@ struct MeshOptions {
     std::vector<std::string> inputs;
     std::string inputs_list;          // --inputs LIST: one path a line
     bool skip_bad_inputs = false;     // --skip-bad-inputs
+    bool refine_thin = false;         // --refine-thin
     std::string crs;                  // --crs
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;

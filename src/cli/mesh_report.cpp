@@ -57,6 +57,11 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << coordinate(r.origin[1], r.grid.cell_size / 1000) << " "
             << coordinate(r.origin[2], r.grid.cell_size / 1000)
             << " (output positions are relative to it; exact in each file and in --report)\n"
+            << (r.thin_bricks > 0 ? "thin parts     " + std::to_string(r.thin_bricks) + " bricks of " +
+                                        std::to_string(CellGrid::brick_cells) + " cells meshed at cells of " +
+                                        four_digits(r.grid.cell_size / 2) + unit_suffix(r.unit) + ", read again in " +
+                                        two_digits(r.thin_read) + " s\n"
+                                  : std::string())
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
             << unit_suffix(r.unit)

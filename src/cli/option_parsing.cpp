@@ -167,6 +167,7 @@ std::string flag_hint(const Error& error) {
         {"max_memory", "--max-memory"},
         {"device", "--device"},
         {"skip_bad_inputs", "--skip-bad-inputs"},
+        {"refine_thin", "--refine-thin"},
         {"crs", "--crs"},
         {"index", "--index"},
         {"tile", "--tile"},

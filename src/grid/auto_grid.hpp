@@ -45,6 +45,14 @@ std::string coarsen_while_sparse(CellGrid& grid);
 // and grid_reason says why it is this grid ("auto: ...").
 void finish_chosen_grid(CellGrid& grid, const GridChoice& choice);
 
+// Any grid, asked for or chosen, is the finest the mesh uses, not a promise to mesh at it: while
+// more than half of its occupied cells hold a single point (the median count is 1), no surface
+// goes through most of the points (a lone point has no plane, and the surface cells hold more
+// than the iso, at least 1, of them), so the grid is coarsened (2 x 2 x 2 cells merged, exactly)
+// while that holds and its longest axis has more than auto_grid_min_cells. Returns how many
+// times it was coarsened.
+int coarsen_while_single_points(CellGrid& grid);
+
 // The grid with cells twice as large: each cell the exact sums of the 2 x 2 x 2 cells it covers
 // (the last cell along an odd axis covers one and ends where the fine grid ended). Otherwise
 // the grid accumulating at that cell size gives.

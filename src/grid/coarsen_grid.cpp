@@ -89,6 +89,16 @@ std::string coarsen_while_sparse(CellGrid& grid) {
            std::to_string(auto_grid_min_median) + " points, now " + std::to_string(median);
 }
 
+int coarsen_while_single_points(CellGrid& grid) {
+    int merged = 0;
+    while (grid.median_count() == 1 &&
+           std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells) {
+        grid = coarsen_grid(grid);
+        ++merged;
+    }
+    return merged;
+}
+
 void finish_chosen_grid(CellGrid& grid, const GridChoice& choice) {
     const std::string coarsened = coarsen_while_sparse(grid);
     grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);

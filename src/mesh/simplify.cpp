@@ -22,6 +22,7 @@
 //   it shares with other blocks held, and further passes with the grid shifted by half a block
 //   free those. Blocks never share what they write, so any thread count gives the same bytes.
 #include "lasmesh/simplify.hpp"
+#include "mesh/mesh_edit.hpp"
 
 #include "lasmesh/normals.hpp"
 #include "measure/mesh_distance.hpp"
@@ -800,28 +801,6 @@ class Block {
     std::vector<double> old_error_, step_, new_error_;
     std::vector<char> holds_u_;
 };
-
-// Drops the vertices no triangle uses and renumbers the rest in their old order.
-void remove_unused_vertices(Mesh& mesh) {
-    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> remap(mesh.positions.size(), unused);
-    for (const auto& t : mesh.triangles)
-        for (const std::uint32_t v : t) remap[v] = 0;
-    std::uint32_t kept = 0;
-    for (std::size_t v = 0; v < remap.size(); ++v) {
-        if (remap[v] == unused) continue;
-        remap[v] = kept;
-        mesh.positions[kept] = mesh.positions[v];
-        if (!mesh.colors.empty()) mesh.colors[kept] = mesh.colors[v];
-        if (!mesh.normals.empty()) mesh.normals[kept] = mesh.normals[v];
-        ++kept;
-    }
-    mesh.positions.resize(kept);
-    if (!mesh.colors.empty()) mesh.colors.resize(kept);
-    if (!mesh.normals.empty()) mesh.normals.resize(kept);
-    for (auto& t : mesh.triangles)
-        for (std::uint32_t& v : t) v = remap[v];
-}
 
 // Blocks of edge `edge` (the grid shifted by `shift` edges on every axis): the alive faces that
 // are `active` by the block their centroid falls in, blocks in grid order, faces in their order.

@@ -106,7 +106,11 @@ expect "disk full while writing" 4 'out.ply: writing failed: File too large: fre
   "trap '' XFSZ; ulimit -f 8192; $L big.las --grid 200 --min-piece 0 --simplify 0 --ascii"
 check "disk full leaves no temporary file" test -z "$(ls -A | grep '\.tmp$')"
 expect "grid too large for memory" 1 'cells would fit (--grid ' "$L ok.las --grid 4096 --max-memory 1000"
-expect "a grid far too fine for the points" 2 'is too fine for the points' "$L ok.las --grid 2048"
+# A grid asked for is the finest the mesh uses: one far too fine for the points is coarsened, said.
+"$lasmesh" ok.las --grid 2048 -o fine.ply 2> err.txt; rc=$?
+check "a grid far too fine for the points is coarsened, not refused (exit $rc)" test "$rc" -eq 0 -a -s fine.ply
+check "... and the note says so" grep -qF "note: the grid asked for, 2048 x 2048 x 2048 cells, is too fine for these points" err.txt
+check "... and the grid line too" grep -qF "(128 times coarser than the 2048 x 2048 x 2048 asked for, too fine)" err.txt
 expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ with whole numbers from 1 to 4096' "$L ok.las --grid 4097"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \

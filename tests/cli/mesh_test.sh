@@ -27,6 +27,15 @@ check "--simplify 0: off" contains "$dir/summary0.txt" "^simplify       off"
 check "--simplify 0: more triangles" test "$(sed -n 's/^element face //p' "$dir/s0.ply" | head -1)" -gt "$(sed -n 's/^element face //p' "$dir/s.ply" | head -1)"
 check "--simplify 0 sphere PLY: closed, within a cell, exact colour" python3 "$here/ply_check.py" "$dir/s0.ply" "$lo" "$hi" 0.25 12,200,99
 
+# A grid far too fine for the points (200,000 on a sphere, 1024 cells: mostly one a cell) is
+# the finest the mesh uses: coarsened, and said; with an iso below 1 a lone point is a surface
+# cell, and the grid stays as asked.
+"$lasmesh" "$dir/s.las" -o "$dir/fine.ply" --grid 1024 2> "$dir/fine.txt"
+check "a grid too fine for the points: coarsened" contains "$dir/fine.txt" "^grid           128 x 128 x 128 cells .*(8 times coarser than the 1024 x 1024 x 1024 asked for, too fine)"
+check "... with a note" contains "$dir/fine.txt" "^note: the grid asked for, 1024 x 1024 x 1024 cells, is too fine for these points"
+"$lasmesh" "$dir/s.las" -o "$dir/fine0.ply" --grid 512 --iso 0.5 2> "$dir/fine0.txt"
+check "--iso 0.5: the grid as asked" contains "$dir/fine0.txt" "^grid           512 x 512 x 512 cells of [0-9.]*$"
+
 # The preview: a PNG of the same run beside the mesh, its size as documented, the same bytes by -o.
 "$lasmesh" "$dir/s.las" -o "$dir/p.ply" --grid 40 --preview "$dir/p.png" 2> /dev/null
 "$lasmesh" "$dir/s.las" -o "$dir/p2.png" --grid 40 2> /dev/null
@@ -177,5 +186,37 @@ check "a truncated file of several: named, and --skip-bad-inputs offered" contai
 "$lasmesh" "$dir/sv-0.las" "$dir/cut.las" -o "$dir/cut.ply" --skip-bad-inputs 2> "$dir/cut.txt"; rc=$?
 check "--skip-bad-inputs: meshed without it, and said" test "$rc" -eq 0 -a -s "$dir/cut.ply"
 check "--skip-bad-inputs: the summary names it" contains "$dir/cut.txt" "^skipped        .*cut.las: ends at byte 200000"
+
+# Thin parts: the deck's railings (rails and posts of 4 to 6 cm, in cells of 12 cm) meshed again
+# at half the cell come out nearer their true surfaces, at nearer their true area, than at the
+# cell; the parts with no thin part near stay as they were. Measured against the scene's own
+# primitives.
+"$lasgen" --scene deck --points 2000000 -o "$dir/deck.las"
+"$lasmesh" "$dir/deck.las" -o "$dir/plain.ply" -q
+"$lasmesh" "$dir/deck.las" -o "$dir/thin.ply" --refine-thin --report "$dir/thin.json" 2> "$dir/thin.txt"
+"$lasgen" --scene deck --measure "$dir/plain.ply" --json "$dir/plain.truth.json" > /dev/null
+"$lasgen" --scene deck --measure "$dir/thin.ply" --json "$dir/thin.truth.json" > /dev/null
+check "--refine-thin: railings nearer their truth, in size too; containers and pipes as they were; p99 lower" python3 -c "
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+pa, pb = ({p['part']: p for p in x['parts']} for x in (a, b))
+r0, r1 = pa['railings'], pb['railings']
+assert r1['mean'] < 0.6 * r0['mean'], (r0['mean'], r1['mean'])
+ratio = lambda p: p['mesh_area'] / p['truth_area']
+assert abs(ratio(r1) - 1) < 0.6 * abs(ratio(r0) - 1), (ratio(r0), ratio(r1))
+for part in ('containers', 'pipes'):
+    assert abs(pb[part]['mean'] - pa[part]['mean']) < 0.1 * pa[part]['mean'], part
+assert b['p99'] < 0.7 * a['p99'], (a['p99'], b['p99'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
+check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin parts     [0-9]* bricks of 64 cells meshed at cells of 0.0"
+check "--refine-thin: and the report" python3 -c "
+import json, sys; r = json.load(open(sys.argv[1])); t = r['thin_parts']
+assert t['bricks'] > 100 and abs(t['cell_size'] - r['grid']['cell_size'] / 2) < 1e-12, t" "$dir/thin.json"
+"$lasmesh" "$dir/deck.las" -o "$dir/thin1.ply" --refine-thin --threads 1 --chunk-mb 1 -q
+check "--refine-thin: the same bytes on one thread and in small slices" cmp -s "$dir/thin.ply" "$dir/thin1.ply"
+"$lasmesh" - -o "$dir/thin-stdin.ply" --refine-thin < "$dir/deck.las" 2> "$dir/err.txt"; rc=$?
+check "--refine-thin: not from standard input (exit $rc)" test "$rc" -eq 1
+check "... which it says" contains "$dir/err.txt" "reads the inputs twice, so it needs regular files"
+"$lasmesh" "$dir/deck.las" -o "$dir/thin-closed.ply" --refine-thin --surface closed 2> "$dir/err.txt"; rc=$?
+check "--refine-thin: the sheet only (exit $rc)" test "$rc" -eq 1 -a ! -e "$dir/thin-closed.ply"
 
 finish "cli mesh"

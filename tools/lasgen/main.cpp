@@ -43,6 +43,7 @@ struct Options {
     std::uint32_t split_xy = 0; // write the points into N x N files by their x and y
     std::string measure;        // measure this mesh against the scene's true surfaces instead
     std::string json;           // and write the measurement as JSON here too
+    std::vector<double> within; // and measure only the true surfaces in this world box
 };
 
 // A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
@@ -188,7 +189,8 @@ void generate(const Options& o) {
         for (int c = 0; c < 3; ++c) scene_options.color[c] = static_cast<std::uint8_t>(o.color[c]);
     const lasgen::Scene scene = lasgen::make_scene(scene_options);
     if (!o.measure.empty()) {
-        const lasgen::TruthOptions truth;
+        lasgen::TruthOptions truth;
+        truth.within = o.within;
         const lasgen::TruthReport report = lasgen::measure_against_truth(scene, lasmesh::read_mesh(o.measure), truth);
         std::cout << lasgen::truth_table(report, truth);
         if (!o.json.empty()) {
@@ -280,6 +282,10 @@ int main(int argc, char** argv) {
     app.add_option("--measure", o.measure,
                    "Measure this mesh (.ply, .drc, .glb) against the scene's true surfaces, part by part, "
                    "instead of writing points (give the scene options the points were made with)");
+    app.add_option("--within", o.within,
+                   "With --measure: only the true surfaces inside this world box (a mesh made with lasmesh --bounds)")
+        ->expected(6)
+        ->delimiter(',');
     app.add_option("--json", o.json, "With --measure: also write the measurement as JSON to this file");
     try {
         app.parse(argc, argv);

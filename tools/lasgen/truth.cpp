@@ -86,6 +86,10 @@ Stats stats_of(std::vector<double>& values) {
     return s;
 }
 
+bool inside(const std::vector<double>& box, const Vec3& w) {
+    return w[0] >= box[0] && w[1] >= box[1] && w[2] >= box[2] && w[0] <= box[3] && w[1] <= box[4] && w[2] <= box[5];
+}
+
 bool is_surface(const Primitive& p) {
     return p.kind != PrimitiveKind::ball;
 }
@@ -179,8 +183,10 @@ TruthReport measure_against_truth(const Scene& scene, const lasmesh::Mesh& mesh,
         for (std::size_t j = 0; j < drawn[i]; ++j) {
             const Vec3 q = sample_on(p, index++);
             if (p.can_have_holes && under_footprint(scene, q)) continue;
+            const Vec3 w = to_world(scene, q);
+            if (!options.within.empty() && !inside(options.within, w)) continue;
             ++kept[i];
-            points.push_back({to_world(scene, q), i, p.can_have_holes && in_shadow(scene, q)});
+            points.push_back({w, i, p.can_have_holes && in_shadow(scene, q)});
         }
     }
     for (std::size_t i : surfaces) {

@@ -26,6 +26,9 @@ struct TruthOptions {
     std::size_t truth_samples = 1'000'000; // points spread over the true surfaces by area
     double tolerance = 0.05;               // a true point is covered when the mesh comes this near (metres)
     double floating = 0.30;                // mesh farther than this from every true surface floats (metres)
+    // World box (min x, y, z, max x, y, z) the mesh was made of: the true surfaces outside it
+    // are left out (a mesh of part of the scene, lasmesh --bounds). Empty: the whole scene.
+    std::vector<double> within;
 };
 
 struct PartError {

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: Apache-2.0
+// thin_bricks: surface cells whose neighbourhood is a line, and the bricks around them.
+#include "grid/thin_parts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace lasmesh {
+
+std::array<double, 3> symmetric_eigenvalues(const std::array<std::array<double, 3>, 3>& a) {
+    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    const double q = (a[0][0] + a[1][1] + a[2][2]) / 3;
+    std::array<double, 3> e{a[0][0], a[1][1], a[2][2]};
+    if (off > 0) {
+        const double d0 = a[0][0] - q, d1 = a[1][1] - q, d2 = a[2][2] - q;
+        const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2 * off) / 6);
+        if (p > 0) {
+            // B = (A - q I) / p; det(B) / 2 = cos(3 phi).
+            const double b00 = d0 / p, b11 = d1 / p, b22 = d2 / p, b01 = a[0][1] / p, b02 = a[0][2] / p,
+                         b12 = a[1][2] / p;
+            const double det =
+                b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+            const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
+            e[0] = q + 2 * p * std::cos(phi);
+            e[2] = q + 2 * p * std::cos(phi + 2 * std::numbers::pi / 3);
+            e[1] = 3 * q - e[0] - e[2];
+        }
+    }
+    std::sort(e.begin(), e.end(), std::greater<>());
+    return e;
+}
+
+std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso) {
+    std::vector<std::uint64_t> thin;
+    const auto surface = [&](std::int64_t x, std::int64_t y, std::int64_t z) -> const CellSums* {
+        const CellSums* c = grid.find(x, y, z);
+        return c && static_cast<double>(c->count) > iso ? c : nullptr;
+    };
+    grid.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
+        if (!(static_cast<double>(grid.cells[r].count) > iso)) return;
+        std::array<Vec3, 27> centroid;
+        std::array<double, 27> weight;
+        std::size_t n = 0;
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx)
+                    if (const CellSums* c = surface(at[0] + dx, at[1] + dy, at[2] + dz)) {
+                        centroid[n] = grid.centroid({at[0] + dx, at[1] + dy, at[2] + dz}, *c);
+                        weight[n++] = static_cast<double>(c->count);
+                    }
+        if (n < 3) return;
+        double total = 0;
+        Vec3 mean{};
+        for (std::size_t k = 0; k < n; ++k) {
+            total += weight[k];
+            for (int i = 0; i < 3; ++i) mean[i] += weight[k] * centroid[k][i];
+        }
+        for (double& m : mean) m /= total;
+        std::array<std::array<double, 3>, 3> cov{};
+        for (std::size_t k = 0; k < n; ++k)
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    cov[i][j] += weight[k] * (centroid[k][i] - mean[i]) * (centroid[k][j] - mean[j]);
+        const std::array<double, 3> e = symmetric_eigenvalues(cov);
+        if (!(e[1] < thin_line_ratio * e[0])) return;
+        const std::int64_t b = CellGrid::brick_bits;
+        const std::array<std::int64_t, 3> brick{at[0] >> b, at[1] >> b, at[2] >> b};
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    const std::int64_t x = brick[0] + dx, y = brick[1] + dy, z = brick[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= grid.bricks[0] || y >= grid.bricks[1] || z >= grid.bricks[2])
+                        continue;
+                    thin.push_back((std::uint64_t(z) * grid.bricks[1] + std::uint64_t(y)) * grid.bricks[0] +
+                                   std::uint64_t(x));
+                }
+    });
+    std::sort(thin.begin(), thin.end());
+    thin.erase(std::unique(thin.begin(), thin.end()), thin.end());
+    return thin;
+}
+
+} // namespace lasmesh

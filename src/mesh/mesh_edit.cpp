@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: Apache-2.0
+// remove_unused_vertices, keep_triangles_in_bricks, append_mesh.
+#include "mesh/mesh_edit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lasmesh {
+
+void remove_unused_vertices(Mesh& mesh) {
+    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> remap(mesh.positions.size(), unused);
+    for (const auto& t : mesh.triangles)
+        for (const std::uint32_t v : t) remap[v] = 0;
+    std::uint32_t kept = 0;
+    for (std::size_t v = 0; v < remap.size(); ++v) {
+        if (remap[v] == unused) continue;
+        remap[v] = kept;
+        mesh.positions[kept] = mesh.positions[v];
+        if (!mesh.colors.empty()) mesh.colors[kept] = mesh.colors[v];
+        if (!mesh.normals.empty()) mesh.normals[kept] = mesh.normals[v];
+        ++kept;
+    }
+    mesh.positions.resize(kept);
+    if (!mesh.colors.empty()) mesh.colors.resize(kept);
+    if (!mesh.normals.empty()) mesh.normals.resize(kept);
+    for (auto& t : mesh.triangles)
+        for (std::uint32_t& v : t) v = remap[v];
+}
+
+void keep_triangles_in_bricks(Mesh& mesh, const GridSpec& grid, const std::vector<std::uint64_t>& bricks, bool inside) {
+    const double brick_edge = grid.cell_size * 4;
+    std::array<std::uint64_t, 3> count{};
+    for (int a = 0; a < 3; ++a) count[a] = (grid.dims[a] + 3) / 4;
+    std::size_t kept = 0;
+    for (const auto& t : mesh.triangles) {
+        std::array<std::uint64_t, 3> at{};
+        for (int a = 0; a < 3; ++a) {
+            const double c =
+                (double(mesh.positions[t[0]][a]) + double(mesh.positions[t[1]][a]) + double(mesh.positions[t[2]][a])) /
+                3;
+            at[a] = static_cast<std::uint64_t>(
+                std::clamp(std::floor(c / brick_edge), 0.0, static_cast<double>(count[a] - 1)));
+        }
+        const std::uint64_t key = (at[2] * count[1] + at[1]) * count[0] + at[0];
+        if (std::binary_search(bricks.begin(), bricks.end(), key) == inside) mesh.triangles[kept++] = t;
+    }
+    mesh.triangles.resize(kept);
+    remove_unused_vertices(mesh);
+}
+
+void append_mesh(Mesh& mesh, const Mesh& more) {
+    const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+    const bool colors = !mesh.colors.empty() && !more.colors.empty();
+    const bool normals = !mesh.normals.empty() && !more.normals.empty();
+    mesh.positions.insert(mesh.positions.end(), more.positions.begin(), more.positions.end());
+    if (colors)
+        mesh.colors.insert(mesh.colors.end(), more.colors.begin(), more.colors.end());
+    else
+        mesh.colors.clear();
+    if (normals)
+        mesh.normals.insert(mesh.normals.end(), more.normals.begin(), more.normals.end());
+    else
+        mesh.normals.clear();
+    for (auto t : more.triangles) {
+        for (std::uint32_t& v : t) v += first;
+        mesh.triangles.push_back(t);
+    }
+}
+
+} // namespace lasmesh

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: Apache-2.0
+// Small edits of a mesh as a whole: unused vertices dropped, triangles kept by where they lie in
+// a grid's bricks, one mesh appended to another.
+#pragma once
+
+#include "lasmesh/grid.hpp"
+#include "lasmesh/mesh.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace lasmesh {
+
+// Drops the vertices no triangle uses and renumbers the rest in their old order.
+void remove_unused_vertices(Mesh& mesh);
+
+// Keeps the triangles whose centroid lies in one of `bricks` (keys of the bricks of 4 x 4 x 4
+// cells of `grid`, ascending; the mesh's positions relative to grid.origin) when `inside`, or in
+// none of them when not; their order and the order of the vertices kept stay.
+void keep_triangles_in_bricks(Mesh& mesh, const GridSpec& grid, const std::vector<std::uint64_t>& bricks, bool inside);
+
+// Appends `more` (the same origin) to `mesh`: its vertices after mesh's, its triangles after.
+// Colours and normals stay only when both have them.
+void append_mesh(Mesh& mesh, const Mesh& more);
+
+} // namespace lasmesh
