@@ -446,11 +446,14 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     const auto start = std::chrono::steady_clock::now();
     Refinement refined;
     refined.bricks = thin_bricks(grid, o.iso ? *o.iso : automatic_iso(grid));
-    if (refined.bricks.empty()) return std::nullopt;
+    if (refined.bricks.empty()) {
+        r.thin_unrefined = "no thin parts found";
+        return std::nullopt;
+    }
     for (const std::uint32_t d : grid.spec.dims)
         if (std::uint64_t{d} * 2 > max_grid_cells) {
-            r.warnings.push_back("note: thin parts not refined: half the cell would take more than " +
-                                 std::to_string(max_grid_cells) + " cells an axis");
+            r.thin_unrefined =
+                "half the cell would take more than " + std::to_string(max_grid_cells) + " cells an axis";
             return std::nullopt;
         }
     r.thin_bricks = refined.bricks.size();

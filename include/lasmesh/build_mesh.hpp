@@ -120,6 +120,7 @@ struct RunReport {
     // their second read took (counted in read_accumulate).
     std::uint64_t thin_bricks = 0;
     double thin_read = 0;
+    std::string thin_unrefined; // with refine_thin and no brick refined: why ("no thin parts found")
     std::size_t vertices = 0, triangles = 0;
     bool colored = false, normals = false;
     Vec3 origin{}; // output positions are relative to it

@@ -61,7 +61,8 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
                                         std::to_string(CellGrid::brick_cells) + " cells meshed at cells of " +
                                         four_digits(r.grid.cell_size / 2) + unit_suffix(r.unit) + ", read again in " +
                                         two_digits(r.thin_read) + " s\n"
-                                  : std::string())
+                : !r.thin_unrefined.empty() ? "thin parts     none refined: " + r.thin_unrefined + "\n"
+                                            : std::string())
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("
             << r.pieces.triangles_removed << " triangles) below a diagonal of " << four_digits(r.pieces.min_diagonal)
             << unit_suffix(r.unit)

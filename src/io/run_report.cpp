@@ -27,6 +27,8 @@ std::string run_report_json(const RunReport& r) {
     if (r.thin_bricks > 0)
         json["thin_parts"] = {
             {"bricks", r.thin_bricks}, {"cell_size", r.grid.cell_size / 2}, {"read_seconds", r.thin_read}};
+    else if (!r.thin_unrefined.empty())
+        json["thin_parts"] = {{"bricks", 0}, {"unrefined", r.thin_unrefined}};
     json["pieces"] = {
         {"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
     json["simplify"] = {{"triangles_before", r.simplify.triangles_before},

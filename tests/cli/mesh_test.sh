@@ -218,5 +218,12 @@ check "--refine-thin: not from standard input (exit $rc)" test "$rc" -eq 1
 check "... which it says" contains "$dir/err.txt" "reads the inputs twice, so it needs regular files"
 "$lasmesh" "$dir/deck.las" -o "$dir/thin-closed.ply" --refine-thin --surface closed 2> "$dir/err.txt"; rc=$?
 check "--refine-thin: the sheet only (exit $rc)" test "$rc" -eq 1 -a ! -e "$dir/thin-closed.ply"
+# A sphere has no thin part: the run says so rather than leaving the line out.
+"$lasmesh" "$dir/s.las" -o "$dir/thin-sphere.ply" --grid 40 --refine-thin --report "$dir/thin-sphere.json" 2> "$dir/thin-sphere.txt"
+check "--refine-thin on a sphere: the summary says none refined, and why" contains "$dir/thin-sphere.txt" "^thin parts     none refined: no thin parts found"
+check "... and the report" python3 -c "
+import json, sys; t = json.load(open(sys.argv[1]))['thin_parts']
+assert t == {'bricks': 0, 'unrefined': 'no thin parts found'}, t" "$dir/thin-sphere.json"
+check "... and the mesh is the plain run's" cmp -s "$dir/thin-sphere.ply" "$dir/sr.ply"
 
 finish "cli mesh"
