@@ -445,7 +445,10 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r) {
     const auto start = std::chrono::steady_clock::now();
     Refinement refined;
-    refined.bricks = thin_bricks(grid, o.iso ? *o.iso : automatic_iso(grid));
+    const std::vector<std::array<std::int64_t, 3>> thin_at = thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid));
+    refined.bricks = blocks_around(thin_at, {grid.bricks[0], grid.bricks[1], grid.bricks[2]}, CellGrid::brick_bits, 1);
+    refined.cells =
+        blocks_around(thin_at, {grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}, 0, thin_mesh_reach);
     if (refined.bricks.empty()) {
         r.thin_unrefined = "no thin parts found";
         return std::nullopt;
@@ -566,8 +569,8 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                                                 : extract_closed_surface(cells, iso, o.placement);
             if (refined && pieces) { // the thin parts' bricks from the finer grid, the rest from this one
                 Mesh thin = extract_sheet(refined->fine, r.iso_auto ? automatic_iso(refined->fine) : iso / 4);
-                keep_triangles_in_bricks(thin, spec, refined->bricks, true);
-                keep_triangles_in_bricks(m, spec, refined->bricks, false);
+                keep_triangles_in_blocks(thin, spec, 0, refined->cells, true);
+                keep_triangles_in_blocks(m, spec, 0, refined->cells, false);
                 append_mesh(m, thin);
             }
             cells = CellGrid{}; // not needed any more: the writers get its memory
@@ -589,23 +592,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         if (pieces && simplify.error > 0)
             watch.stage_started(BuildStage::extract,
                                 "simplifying " + std::to_string(m.triangles.size()) + " triangles");
-        SimplifyReport report;
-        if (refined && pieces && simplify.error > 0) {
-            // Each part to its own cell's share: the thin parts' bound is half the rest's.
-            Mesh thin = m;
-            keep_triangles_in_bricks(thin, spec, refined->bricks, true);
-            keep_triangles_in_bricks(m, spec, refined->bricks, false);
-            SimplifyOptions finer = simplify;
-            finer.error /= 2;
-            report = simplify_mesh(m, simplify);
-            const SimplifyReport thin_report = simplify_mesh(thin, finer);
-            report.triangles_before += thin_report.triangles_before;
-            report.triangles_after += thin_report.triangles_after;
-            report.seconds += thin_report.seconds;
-            append_mesh(m, thin);
-        } else {
-            report = simplify_mesh(m, simplify);
-        }
+        const SimplifyReport report = simplify_mesh(m, simplify);
         if (pieces && simplify.error > 0)
             watch.detail("simplified     " + std::to_string(report.triangles_before) + " to " +
                          std::to_string(report.triangles_after) + " triangles within " + four_digits(simplify.error) +

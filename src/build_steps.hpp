@@ -92,7 +92,8 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
 // Thin parts meshed again at half the cell (BuildOptions::refine_thin): the bricks of the grid
 // they lie in, with the bricks around them, and the grid of half the cell holding their points.
 struct Refinement {
-    std::vector<std::uint64_t> bricks; // keys of the grid's bricks, ascending
+    std::vector<std::uint64_t> bricks; // keys of the grid's bricks read again, ascending
+    std::vector<std::uint64_t> cells;  // keys of the grid's cells whose mesh comes from `fine`, ascending
     CellGrid fine;
 };
 // Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points

@@ -5,6 +5,7 @@
 #include "lasgen/scene.hpp"
 #include "lasmesh/grid.hpp"
 #include "mesh/marching_cubes.hpp"
+#include "mesh/mesh_edit.hpp"
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -35,6 +36,49 @@ TEST_CASE("symmetric eigenvalues: diagonal, rotated, repeated") {
     CHECK(e[0] == doctest::Approx(7));
     CHECK(e[1] == doctest::Approx(2));
     CHECK(e[2] == doctest::Approx(2));
+}
+
+TEST_CASE("blocks around cells: reach, clipping at the grid, brick numbering, ascending and unique") {
+    // Cells (1, 1, 0) and (2, 1, 0) in a 4 x 3 x 2 grid, reach 1: x 0-3, y 0-2, z 0-1, all 24.
+    std::vector<std::uint64_t> keys = blocks_around({{1, 1, 0}, {2, 1, 0}}, {4, 3, 2}, 0, 1);
+    CHECK(keys.size() == 24);
+    CHECK(std::is_sorted(keys.begin(), keys.end()));
+    // Cell (0, 0, 0), reach 1, in 5 x 5 x 5: the 2 x 2 x 2 corner, keys (z * 5 + y) * 5 + x.
+    keys = blocks_around({{0, 0, 0}}, {5, 5, 5}, 0, 1);
+    CHECK(keys == std::vector<std::uint64_t>{0, 1, 5, 6, 25, 26, 30, 31});
+    // Reach 0: the cells themselves, each once.
+    keys = blocks_around({{3, 2, 1}, {3, 2, 1}}, {5, 5, 5}, 0, 0);
+    CHECK(keys == std::vector<std::uint64_t>{(1 * 5 + 2) * 5 + 3});
+    // Bricks of 4 cells (shift 2): cells 5 and 7 on x are both in brick 1; with reach 1, bricks 0-2.
+    keys = blocks_around({{5, 0, 0}, {7, 0, 0}}, {3, 1, 1}, 2, 1);
+    CHECK(keys == std::vector<std::uint64_t>{0, 1, 2});
+}
+
+TEST_CASE("triangles kept by the cell or brick of their centroid, in their order, unused vertices dropped") {
+    // Three triangles in cells of 1 (4 x 4 x 4): centroids in cells (0, 0, 0), (1, 0, 0), (2, 1, 0).
+    Mesh mesh;
+    mesh.positions = {{0.1f, 0.1f, 0.5f}, {0.5f, 0.9f, 0.5f}, {0.9f, 0.1f, 0.5f}, // cell (0, 0, 0)
+                      {1.1f, 0.1f, 0.5f}, {1.5f, 0.9f, 0.5f}, {1.9f, 0.1f, 0.5f}, // (1, 0, 0)
+                      {2.1f, 1.1f, 0.5f}, {2.5f, 1.9f, 0.5f}, {2.9f, 1.1f, 0.5f}, // (2, 1, 0)
+                      {3.5f, 3.5f, 3.5f}};                                        // no triangle's
+    mesh.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+    GridSpec spec;
+    spec.dims = {4, 4, 4};
+    const std::uint64_t cell_100 = 1, cell_210 = 1 * 4 + 2;
+    Mesh inside = mesh;
+    keep_triangles_in_blocks(inside, spec, 0, {cell_100, cell_210}, true);
+    REQUIRE(inside.triangles.size() == 2);
+    CHECK(inside.positions.size() == 6);
+    CHECK(inside.positions[0] == mesh.positions[3]);
+    CHECK(inside.triangles[1] == std::array<std::uint32_t, 3>{3, 4, 5});
+    Mesh outside = mesh;
+    keep_triangles_in_blocks(outside, spec, 0, {cell_100, cell_210}, false);
+    REQUIRE(outside.triangles.size() == 1);
+    CHECK(outside.positions[2] == mesh.positions[2]);
+    // Bricks of 2 cells (shift 1): brick (0, 0, 0) holds the first two, brick (1, 0, 0) the third.
+    Mesh bricks = mesh;
+    keep_triangles_in_blocks(bricks, spec, 1, {0}, true);
+    CHECK(bricks.triangles.size() == 2);
 }
 
 TEST_CASE("thin bricks on the deck: the railings', not the deck's, a container's or a pipe's") {

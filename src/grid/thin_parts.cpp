@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 namespace lasmesh {
 
@@ -31,8 +32,8 @@ std::array<double, 3> symmetric_eigenvalues(const std::array<std::array<double, 
     return e;
 }
 
-std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso) {
-    std::vector<std::uint64_t> thin;
+std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double iso) {
+    std::vector<std::array<std::int64_t, 3>> thin;
     const auto surface = [&](std::int64_t x, std::int64_t y, std::int64_t z) -> const CellSums* {
         const CellSums* c = grid.find(x, y, z);
         return c && static_cast<double>(c->count) > iso ? c : nullptr;
@@ -64,21 +65,36 @@ std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso) {
                     cov[i][j] += weight[k] * (centroid[k][i] - mean[i]) * (centroid[k][j] - mean[j]);
         const std::array<double, 3> e = symmetric_eigenvalues(cov);
         if (!(e[1] < thin_line_ratio * e[0])) return;
-        const std::int64_t b = CellGrid::brick_bits;
-        const std::array<std::int64_t, 3> brick{at[0] >> b, at[1] >> b, at[2] >> b};
-        for (std::int64_t dz = -1; dz <= 1; ++dz)
-            for (std::int64_t dy = -1; dy <= 1; ++dy)
-                for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                    const std::int64_t x = brick[0] + dx, y = brick[1] + dy, z = brick[2] + dz;
-                    if (x < 0 || y < 0 || z < 0 || x >= grid.bricks[0] || y >= grid.bricks[1] || z >= grid.bricks[2])
-                        continue;
-                    thin.push_back((std::uint64_t(z) * grid.bricks[1] + std::uint64_t(y)) * grid.bricks[0] +
+        thin.push_back(at);
+    });
+    std::sort(thin.begin(), thin.end(),
+              [](const auto& a, const auto& b) { return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]); });
+    return thin;
+}
+
+std::vector<std::uint64_t> blocks_around(const std::vector<std::array<std::int64_t, 3>>& cells,
+                                         const std::array<std::int64_t, 3>& count, int shift, std::int64_t reach) {
+    std::vector<std::uint64_t> keys;
+    for (const std::array<std::int64_t, 3>& at : cells) {
+        const std::array<std::int64_t, 3> block{at[0] >> shift, at[1] >> shift, at[2] >> shift};
+        for (std::int64_t dz = -reach; dz <= reach; ++dz)
+            for (std::int64_t dy = -reach; dy <= reach; ++dy)
+                for (std::int64_t dx = -reach; dx <= reach; ++dx) {
+                    const std::int64_t x = block[0] + dx, y = block[1] + dy, z = block[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= count[0] || y >= count[1] || z >= count[2]) continue;
+                    keys.push_back((std::uint64_t(z) * std::uint64_t(count[1]) + std::uint64_t(y)) *
+                                       std::uint64_t(count[0]) +
                                    std::uint64_t(x));
                 }
-    });
-    std::sort(thin.begin(), thin.end());
-    thin.erase(std::unique(thin.begin(), thin.end()), thin.end());
-    return thin;
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
+}
+
+std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso) {
+    return blocks_around(thin_cells(grid, iso), {grid.bricks[0], grid.bricks[1], grid.bricks[2]}, CellGrid::brick_bits,
+                         1);
 }
 
 } // namespace lasmesh

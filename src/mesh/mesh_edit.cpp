@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// remove_unused_vertices, keep_triangles_in_bricks, append_mesh.
+// remove_unused_vertices, keep_triangles_in_blocks, append_mesh.
 #include "mesh/mesh_edit.hpp"
 
 #include <algorithm>
@@ -29,10 +29,11 @@ void remove_unused_vertices(Mesh& mesh) {
         for (std::uint32_t& v : t) v = remap[v];
 }
 
-void keep_triangles_in_bricks(Mesh& mesh, const GridSpec& grid, const std::vector<std::uint64_t>& bricks, bool inside) {
-    const double brick_edge = grid.cell_size * 4;
+void keep_triangles_in_blocks(Mesh& mesh, const GridSpec& grid, int shift, const std::vector<std::uint64_t>& blocks,
+                              bool inside) {
+    const double block_edge = std::ldexp(grid.cell_size, shift);
     std::array<std::uint64_t, 3> count{};
-    for (int a = 0; a < 3; ++a) count[a] = (grid.dims[a] + 3) / 4;
+    for (int a = 0; a < 3; ++a) count[a] = (std::uint64_t{grid.dims[a]} + (1u << shift) - 1) >> shift;
     std::size_t kept = 0;
     for (const auto& t : mesh.triangles) {
         std::array<std::uint64_t, 3> at{};
@@ -41,10 +42,10 @@ void keep_triangles_in_bricks(Mesh& mesh, const GridSpec& grid, const std::vecto
                 (double(mesh.positions[t[0]][a]) + double(mesh.positions[t[1]][a]) + double(mesh.positions[t[2]][a])) /
                 3;
             at[a] = static_cast<std::uint64_t>(
-                std::clamp(std::floor(c / brick_edge), 0.0, static_cast<double>(count[a] - 1)));
+                std::clamp(std::floor(c / block_edge), 0.0, static_cast<double>(count[a] - 1)));
         }
         const std::uint64_t key = (at[2] * count[1] + at[1]) * count[0] + at[0];
-        if (std::binary_search(bricks.begin(), bricks.end(), key) == inside) mesh.triangles[kept++] = t;
+        if (std::binary_search(blocks.begin(), blocks.end(), key) == inside) mesh.triangles[kept++] = t;
     }
     mesh.triangles.resize(kept);
     remove_unused_vertices(mesh);

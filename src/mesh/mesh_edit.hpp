@@ -14,10 +14,12 @@ namespace lasmesh {
 // Drops the vertices no triangle uses and renumbers the rest in their old order.
 void remove_unused_vertices(Mesh& mesh);
 
-// Keeps the triangles whose centroid lies in one of `bricks` (keys of the bricks of 4 x 4 x 4
-// cells of `grid`, ascending; the mesh's positions relative to grid.origin) when `inside`, or in
-// none of them when not; their order and the order of the vertices kept stay.
-void keep_triangles_in_bricks(Mesh& mesh, const GridSpec& grid, const std::vector<std::uint64_t>& bricks, bool inside);
+// Keeps the triangles whose centroid lies in one of `blocks` (keys of the blocks of 2^shift cells
+// an edge of `grid`, ascending, as thin_parts.hpp's blocks_around numbers them; the mesh's
+// positions relative to grid.origin) when `inside`, or in none of them when not; their order and
+// the order of the vertices kept stay.
+void keep_triangles_in_blocks(Mesh& mesh, const GridSpec& grid, int shift, const std::vector<std::uint64_t>& blocks,
+                              bool inside);
 
 // Appends `more` (the same origin) to `mesh`: its vertices after mesh's, its triangles after.
 // Colours and normals stay only when both have them.

@@ -207,6 +207,13 @@ assert abs(ratio(r1) - 1) < 0.6 * abs(ratio(r0) - 1), (ratio(r0), ratio(r1))
 for part in ('containers', 'pipes'):
     assert abs(pb[part]['mean'] - pa[part]['mean']) < 0.1 * pa[part]['mean'], part
 assert b['p99'] < 0.7 * a['p99'], (a['p99'], b['p99'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
+# The finer mesh stays a cell around the thin parts: the rest keeps (nearly) its triangles.
+check "--refine-thin: the triangles of the parts that are not thin grow by under a fifth" python3 -c "
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+rest = lambda x: sum(p['triangles'] for p in x['parts'] if p['part'] != 'railings')
+assert rest(b) < 1.2 * rest(a), (rest(a), rest(b))
+assert b['triangles'] < 1.5 * a['triangles'], (a['triangles'], b['triangles'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
 check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin parts     [0-9]* bricks of 64 cells meshed at cells of 0.0"
 check "--refine-thin: and the report" python3 -c "
 import json, sys; r = json.load(open(sys.argv[1])); t = r['thin_parts']

@@ -133,6 +133,21 @@ TruthReport measure_against_truth(const Scene& scene, const lasmesh::Mesh& mesh,
         const Vec3 n = cross_product(minus(b, a), minus(c, a));
         report.mesh_area += 0.5 * std::sqrt(dot_product(n, n));
     }
+    report.triangles = mesh.triangles.size();
+    // Each triangle, by its centroid, to its nearest part: where the triangle count goes.
+    std::vector<std::size_t> triangle_part(mesh.triangles.size(), part_count);
+    tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t t) {
+        Vec3 world{};
+        for (const std::uint32_t v : mesh.triangles[t])
+            for (int a = 0; a < 3; ++a) world[a] += (mesh.origin[a] + mesh.positions[v][a]) / 3;
+        const Vec3 q = to_local(scene, world);
+        double best = options.floating;
+        for (std::size_t i : surfaces)
+            if (const double d = distance_to(scene.primitives[i], q); d <= best)
+                best = d, triangle_part[t] = part_of[i];
+    });
+    for (const std::size_t k : triangle_part)
+        if (k < part_count) ++report.parts[k].triangles;
     const std::vector<Vec3> samples = lasmesh::sample_surface(mesh, options.mesh_samples);
     std::vector<double> distance(samples.size());
     std::vector<std::size_t> nearest(samples.size());
@@ -226,18 +241,19 @@ std::string truth_table(const TruthReport& r, const TruthOptions& o) {
     std::string out;
     char line[256];
     std::snprintf(line, sizeof line,
-                  "| part | true m² | mesh m² | mesh / true | mean cm | p99 cm | covered (%.0f cm) |\n"
-                  "|---|---|---|---|---|---|---|\n",
+                  "| part | true m² | mesh m² | mesh / true | mean cm | p99 cm | covered (%.0f cm) | triangles |\n"
+                  "|---|---|---|---|---|---|---|---|\n",
                   100 * o.tolerance);
     out += line;
     for (const PartError& p : r.parts) {
-        std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% |\n", p.part.c_str(),
+        std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu |\n", p.part.c_str(),
                       p.truth_area, p.mesh_area, p.truth_area > 0 ? p.mesh_area / p.truth_area : 0, 100 * p.mean,
-                      100 * p.p99, 100 * p.covered);
+                      100 * p.p99, 100 * p.covered, p.triangles);
         out += line;
     }
-    std::snprintf(line, sizeof line, "| all | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% |\n", r.truth_area, r.mesh_area,
-                  r.truth_area > 0 ? r.mesh_area / r.truth_area : 0, 100 * r.mean, 100 * r.p99, 100 * r.covered);
+    std::snprintf(line, sizeof line, "| all | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu |\n", r.truth_area,
+                  r.mesh_area, r.truth_area > 0 ? r.mesh_area / r.truth_area : 0, 100 * r.mean, 100 * r.p99,
+                  100 * r.covered, r.triangles);
     out += line;
     std::snprintf(line, sizeof line,
                   "\nmesh to truth: median %.2f cm, p95 %.1f cm, max %.1f cm; floating (over %.0f cm) %.3f%% of the "
@@ -257,6 +273,7 @@ std::string truth_json(const TruthReport& r, const TruthOptions& o) {
     j["floating_over"] = o.floating;
     j["mesh_area"] = r.mesh_area;
     j["truth_area"] = r.truth_area;
+    j["triangles"] = r.triangles;
     j["mean"] = r.mean;
     j["median"] = r.median;
     j["p95"] = r.p95;
@@ -272,7 +289,8 @@ std::string truth_json(const TruthReport& r, const TruthOptions& o) {
                               {"mesh_area", p.mesh_area},
                               {"mean", p.mean},
                               {"p99", p.p99},
-                              {"covered", p.covered}});
+                              {"covered", p.covered},
+                              {"triangles", p.triangles}});
     return j.dump(2) + "\n";
 }
 

@@ -38,12 +38,14 @@ struct PartError {
     // (floating mesh left out). Their ratio is 1 for a faithful mesh, 2 for a railing meshed
     // as a tube twice its width, 0.5 for a wall's two faces meshed as one sheet.
     double truth_area = 0, mesh_area = 0;
-    double mean = 0, p99 = 0; // distance of that mesh to the part's surfaces
-    double covered = 0;       // share of the part's true surface (outside shadows) within tolerance
+    double mean = 0, p99 = 0;  // distance of that mesh to the part's surfaces
+    double covered = 0;        // share of the part's true surface (outside shadows) within tolerance
+    std::size_t triangles = 0; // the mesh's triangles whose centroid is nearest this part (floating ones left out)
 };
 
 struct TruthReport {
     double mesh_area = 0, truth_area = 0;
+    std::size_t triangles = 0;                              // the mesh's
     double mean = 0, median = 0, p95 = 0, p99 = 0, max = 0; // mesh to truth, over the mesh area
     double floating_share = 0;                              // of the mesh area, farther than TruthOptions::floating
     double covered = 0;           // share of the true surface (outside shadows) within tolerance
