@@ -446,10 +446,7 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     const auto start = std::chrono::steady_clock::now();
     Refinement refined;
     const std::vector<std::array<std::int64_t, 3>> thin_at = thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid));
-    refined.bricks = blocks_around(thin_at, {grid.bricks[0], grid.bricks[1], grid.bricks[2]}, CellGrid::brick_bits, 1);
-    refined.cells =
-        blocks_around(thin_at, {grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}, 0, thin_mesh_reach);
-    if (refined.bricks.empty()) {
+    if (thin_at.empty()) {
         r.thin_unrefined = "no thin parts found";
         return std::nullopt;
     }
@@ -459,7 +456,10 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
                 "half the cell would take more than " + std::to_string(max_grid_cells) + " cells an axis";
             return std::nullopt;
         }
-    r.thin_bricks = refined.bricks.size();
+    const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
+    refined.cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
+    const std::vector<std::uint64_t> read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);
+    r.thin_cells = refined.cells.size();
     RunReport again; // the first read reported the survey's notes
     SurveyStart opened = open_survey(inputs, o, again);
     AccumulateOptions accumulate = opened.accumulate;
@@ -468,27 +468,42 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     for (std::uint32_t& d : fine.dims) d *= 2;
     accumulate.spec = fine;
     accumulate.memory_in_use = resident_bytes();
-    // Only the points in the thin parts' bricks reach the device (the survey's frame: the same
-    // raw integers the grid's cell starts are in). Each axis's brick of a raw value comes from a
-    // table over the grid's raw values when it spans at most 4M of them, else from the starts.
+    // Only the points of the cells near the thin parts reach the device (the survey's frame: the
+    // same raw integers the grid's cell starts are in). Each axis's cell of a raw value comes from
+    // a table over the grid's raw values when it spans at most 4M of them, else from the starts.
     const std::size_t length = opened.survey.header.point_record_length;
-    std::array<std::vector<std::uint16_t>, 3> brick_table;
+    std::array<std::vector<std::uint16_t>, 3> cell_table; // max_grid_cells fit in 16 bits
     for (int a = 0; a < 3; ++a) {
         const std::vector<std::int64_t>& starts = grid.axes[a].starts;
         if (starts.back() - starts.front() > (std::int64_t{1} << 22)) continue;
-        brick_table[a].resize(static_cast<std::size_t>(starts.back() - starts.front()));
+        cell_table[a].resize(static_cast<std::size_t>(starts.back() - starts.front()));
         for (std::size_t c = 0; c + 1 < starts.size(); ++c)
-            std::fill(brick_table[a].begin() + (starts[c] - starts.front()),
-                      brick_table[a].begin() + (starts[c + 1] - starts.front()),
-                      static_cast<std::uint16_t>(c >> CellGrid::brick_bits));
+            std::fill(cell_table[a].begin() + (starts[c] - starts.front()),
+                      cell_table[a].begin() + (starts[c + 1] - starts.front()), static_cast<std::uint16_t>(c));
     }
-    const auto brick_of = [&](int a, std::int64_t raw) -> std::int64_t {
+    const auto cell_of = [&](int a, std::int64_t raw) -> std::int64_t {
         const std::vector<std::int64_t>& starts = grid.axes[a].starts;
         if (raw < starts.front() || raw >= starts.back()) return -1;
-        if (!brick_table[a].empty()) return brick_table[a][static_cast<std::size_t>(raw - starts.front())];
-        return (std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1) >> CellGrid::brick_bits;
+        if (!cell_table[a].empty()) return cell_table[a][static_cast<std::size_t>(raw - starts.front())];
+        return std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1;
     };
-    const BrickTable thin(refined.bricks);
+    const BrickTable near_thin(read_cells); // a hash of 64-bit keys: cell keys here
+    // Most points lie far from any thin part: a bit per brick of the grid (at most 32 MiB; none
+    // past that) turns them away before the hash, whose probes would miss the caches.
+    const std::array<std::uint64_t, 3> bricks{grid.bricks[0], grid.bricks[1], grid.bricks[2]};
+    std::vector<std::uint64_t> near_bricks;
+    if (bricks[0] * bricks[1] * bricks[2] <= (std::uint64_t{1} << 28)) {
+        near_bricks.assign((bricks[0] * bricks[1] * bricks[2] + 63) / 64, 0);
+        for (const std::uint64_t key : read_cells) {
+            const std::uint64_t x = key % std::uint64_t(dims[0]),
+                                y = key / std::uint64_t(dims[0]) % std::uint64_t(dims[1]),
+                                z = key / std::uint64_t(dims[0]) / std::uint64_t(dims[1]);
+            const std::uint64_t b =
+                ((z >> CellGrid::brick_bits) * bricks[1] + (y >> CellGrid::brick_bits)) * bricks[0] +
+                (x >> CellGrid::brick_bits);
+            near_bricks[b / 64] |= std::uint64_t{1} << (b % 64);
+        }
+    }
     std::vector<char> keep;
     SurveyReader reader(opened.survey, opened.single.get());
     reader.on_records([&](std::size_t, std::byte* records, std::size_t count) {
@@ -496,12 +511,20 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16384), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 const std::byte* at = records + i * length;
-                const std::int64_t x = brick_of(0, load_le<std::int32_t>(at)),
-                                   y = brick_of(1, load_le<std::int32_t>(at + 4)),
-                                   z = brick_of(2, load_le<std::int32_t>(at + 8));
+                const std::int64_t x = cell_of(0, load_le<std::int32_t>(at)),
+                                   y = cell_of(1, load_le<std::int32_t>(at + 4)),
+                                   z = cell_of(2, load_le<std::int32_t>(at + 8));
                 if (x < 0 || y < 0 || z < 0) continue;
-                keep[i] = thin.find((std::uint64_t(z) * grid.bricks[1] + std::uint64_t(y)) * grid.bricks[0] +
-                                    std::uint64_t(x)) != 0;
+                if (!near_bricks.empty()) {
+                    const std::uint64_t b = ((std::uint64_t(z) >> CellGrid::brick_bits) * bricks[1] +
+                                             (std::uint64_t(y) >> CellGrid::brick_bits)) *
+                                                bricks[0] +
+                                            (std::uint64_t(x) >> CellGrid::brick_bits);
+                    if (!(near_bricks[b / 64] >> (b % 64) & 1)) continue;
+                }
+                keep[i] = near_thin.find((std::uint64_t(z) * std::uint64_t(dims[1]) + std::uint64_t(y)) *
+                                             std::uint64_t(dims[0]) +
+                                         std::uint64_t(x)) != 0;
             }
         });
         std::size_t kept = 0;
@@ -516,7 +539,7 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     ComputeDevice device(o.device);
     refined.fine = accumulate_cells(reader, device, accumulate);
     r.thin_read = seconds_since(start);
-    watch.detail("thin parts     " + std::to_string(refined.bricks.size()) + " bricks read again at cells of " +
+    watch.detail("thin parts     " + std::to_string(read_cells.size()) + " cells read again at cells of " +
                  four_digits(fine.cell_size) + ": " + std::to_string(refined.fine.occupied_cells()) +
                  " occupied cells, in " + two_digits(r.thin_read) + " s");
     return refined;
@@ -568,7 +591,11 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
                                                 : extract_closed_surface(cells, iso, o.placement);
             if (refined && pieces) { // the thin parts' bricks from the finer grid, the rest from this one
-                Mesh thin = extract_sheet(refined->fine, r.iso_auto ? automatic_iso(refined->fine) : iso / 4);
+                // A quarter of the iso: the same points per area in cells of half the edge; an
+                // automatic one rounded as automatic_iso rounds (not the finer grid's own median,
+                // which would follow how far around the thin parts its points were read).
+                const double fine_iso = r.iso_auto ? std::max(1.0, std::floor(iso / 4)) : iso / 4;
+                Mesh thin = extract_sheet(refined->fine, fine_iso);
                 keep_triangles_in_blocks(thin, spec, 0, refined->cells, true);
                 keep_triangles_in_blocks(m, spec, 0, refined->cells, false);
                 append_mesh(m, thin);

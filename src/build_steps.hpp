@@ -89,15 +89,14 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took.
-// Thin parts meshed again at half the cell (BuildOptions::refine_thin): the bricks of the grid
-// they lie in, with the bricks around them, and the grid of half the cell holding their points.
+// Thin parts meshed again at half the cell (BuildOptions::refine_thin): the cells of the grid
+// whose mesh comes from the finer grid, and that grid, holding the points near them.
 struct Refinement {
-    std::vector<std::uint64_t> bricks; // keys of the grid's bricks read again, ascending
-    std::vector<std::uint64_t> cells;  // keys of the grid's cells whose mesh comes from `fine`, ascending
+    std::vector<std::uint64_t> cells; // keys ((z * dims[1] + y) * dims[0] + x) of the grid's cells, ascending
     CellGrid fine;
 };
 // Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
-// in their bricks; nothing when there are none. Sets r.thin_bricks and r.thin_read.
+// near them; nothing when there are none. Sets r.thin_cells and r.thin_read, or r.thin_unrefined.
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r);
 

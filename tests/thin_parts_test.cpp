@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Thin parts: the eigenvalues their test rests on, and the bricks found on the generated deck:
+// Thin parts: the eigenvalues their test rests on, and the cells found on the generated deck:
 // the railings' (thinner than a cell), not the deck's middle, a container's top or a pipe's.
 #include "grid/thin_parts.hpp"
 #include "lasgen/scene.hpp"
@@ -81,7 +81,7 @@ TEST_CASE("triangles kept by the cell or brick of their centroid, in their order
     CHECK(bricks.triangles.size() == 2);
 }
 
-TEST_CASE("thin bricks on the deck: the railings', not the deck's, a container's or a pipe's") {
+TEST_CASE("thin cells on the deck: the railings', not the deck's, a container's or a pipe's") {
     test::TempDir dir;
     lasgen::SceneOptions options;
     options.origin = {431250, 6700200, 10};
@@ -92,18 +92,18 @@ TEST_CASE("thin bricks on the deck: the railings', not the deck's, a container's
     AccumulateOptions grid;
     grid.grid = GridRequest::longest(512); // cells of 12.5 cm: the railings' 4-6 cm are thinner
     const CellGrid cells = test::accumulate_file(dir.file("deck.las"), grid);
-    const std::vector<std::uint64_t> thin = thin_bricks(cells, automatic_iso(cells));
+    const std::array<std::int64_t, 3> dims{cells.spec.dims[0], cells.spec.dims[1], cells.spec.dims[2]};
+    const std::vector<std::uint64_t> thin = blocks_around(thin_cells(cells, automatic_iso(cells)), dims, 0, 1);
     REQUIRE(std::is_sorted(thin.begin(), thin.end()));
-    const auto brick_at = [&](const lasmesh::Vec3& local) {
+    const auto cell_at = [&](const lasmesh::Vec3& local) {
         const lasmesh::Vec3 w = lasgen::to_world(deck, local);
-        std::array<std::uint64_t, 3> b{};
+        std::array<std::uint64_t, 3> c{};
         for (int a = 0; a < 3; ++a)
-            b[a] = static_cast<std::uint64_t>(std::floor((w[a] - cells.spec.origin[a]) / cells.spec.cell_size)) >>
-                   CellGrid::brick_bits;
-        return (b[2] * cells.bricks[1] + b[1]) * cells.bricks[0] + b[0];
+            c[a] = static_cast<std::uint64_t>(std::floor((w[a] - cells.spec.origin[a]) / cells.spec.cell_size));
+        return (c[2] * std::uint64_t(dims[1]) + c[1]) * std::uint64_t(dims[0]) + c[0];
     };
     const auto is_thin = [&](const lasmesh::Vec3& local) {
-        return std::binary_search(thin.begin(), thin.end(), brick_at(local));
+        return std::binary_search(thin.begin(), thin.end(), cell_at(local));
     };
     int rails = 0;
     for (double x = 3.3; x < 40; x += 4) rails += is_thin({x, 0.3, 1.1}) + is_thin({x, 23.7, 0.55});
@@ -112,8 +112,10 @@ TEST_CASE("thin bricks on the deck: the railings', not the deck's, a container's
     CHECK(!is_thin({12, 4.25, 2.6}));  // the long container's top
     CHECK(!is_thin({20, 21.5, 1.05})); // the 50 cm pipe's top
     CHECK(!is_thin({51, 6, 3.5}));     // the deckhouse's wall
-    // A small share of the occupied bricks: the refinement stays where it is needed.
-    const auto occupied =
-        std::count_if(thin.begin(), thin.end(), [&](std::uint64_t key) { return cells.brick_table.find(key) != 0; });
-    CHECK(occupied < static_cast<std::ptrdiff_t>(cells.brick_keys.size() / 5));
+    // A small share of the occupied cells: the refinement stays where it is needed.
+    const auto occupied = std::count_if(thin.begin(), thin.end(), [&](std::uint64_t key) {
+        const auto d = static_cast<std::uint64_t>(dims[0]), e = static_cast<std::uint64_t>(dims[1]);
+        return cells.find(std::int64_t(key % d), std::int64_t(key / d % e), std::int64_t(key / d / e)) != nullptr;
+    });
+    CHECK(occupied < static_cast<std::ptrdiff_t>(cells.occupied_cells() / 10));
 }

@@ -116,9 +116,9 @@ struct RunReport {
     std::uint64_t host_grid_bytes = 0; // the grid as the host keeps it: occupied cells only
     PieceCount pieces;
     SimplifyReport simplify; // triangles before and after, the bound in file units, seconds
-    // With refine_thin: the bricks (4 x 4 x 4 cells) meshed at half the cell, and the seconds
-    // their second read took (counted in read_accumulate).
-    std::uint64_t thin_bricks = 0;
+    // With refine_thin: the cells meshed at half the cell (thin parts and the cells next to
+    // them), and the seconds their points' second read took (counted in read_accumulate).
+    std::uint64_t thin_cells = 0;
     double thin_read = 0;
     std::string thin_unrefined; // with refine_thin and no brick refined: why ("no thin parts found")
     std::size_t vertices = 0, triangles = 0;

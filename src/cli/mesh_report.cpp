@@ -57,10 +57,9 @@ void print_summary(const RunReport& r, const SummaryContext& c, std::ostream& su
             << coordinate(r.origin[1], r.grid.cell_size / 1000) << " "
             << coordinate(r.origin[2], r.grid.cell_size / 1000)
             << " (output positions are relative to it; exact in each file and in --report)\n"
-            << (r.thin_bricks > 0 ? "thin parts     " + std::to_string(r.thin_bricks) + " bricks of " +
-                                        std::to_string(CellGrid::brick_cells) + " cells meshed at cells of " +
-                                        four_digits(r.grid.cell_size / 2) + unit_suffix(r.unit) + ", read again in " +
-                                        two_digits(r.thin_read) + " s\n"
+            << (r.thin_cells > 0 ? "thin parts     " + std::to_string(r.thin_cells) + " cells meshed at cells of " +
+                                       four_digits(r.grid.cell_size / 2) + unit_suffix(r.unit) + ", read again in " +
+                                       two_digits(r.thin_read) + " s\n"
                 : !r.thin_unrefined.empty() ? "thin parts     none refined: " + r.thin_unrefined + "\n"
                                             : std::string())
             << "pieces         " << r.pieces.pieces << " connected, " << r.pieces.removed << " removed ("

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// thin_bricks: surface cells whose neighbourhood is a line, and the bricks around them.
+// thin_cells: surface cells whose neighbourhood is a line; blocks_around: the cells or bricks near them.
 #include "grid/thin_parts.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <tuple>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace lasmesh {
 
@@ -33,13 +37,11 @@ std::array<double, 3> symmetric_eigenvalues(const std::array<std::array<double, 
 }
 
 std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double iso) {
-    std::vector<std::array<std::int64_t, 3>> thin;
     const auto surface = [&](std::int64_t x, std::int64_t y, std::int64_t z) -> const CellSums* {
         const CellSums* c = grid.find(x, y, z);
         return c && static_cast<double>(c->count) > iso ? c : nullptr;
     };
-    grid.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
-        if (!(static_cast<double>(grid.cells[r].count) > iso)) return;
+    const auto is_thin = [&](const std::array<std::int64_t, 3>& at) {
         std::array<Vec3, 27> centroid;
         std::array<double, 27> weight;
         std::size_t n = 0;
@@ -50,7 +52,7 @@ std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double
                         centroid[n] = grid.centroid({at[0] + dx, at[1] + dy, at[2] + dz}, *c);
                         weight[n++] = static_cast<double>(c->count);
                     }
-        if (n < 3) return;
+        if (n < 3) return false;
         double total = 0;
         Vec3 mean{};
         for (std::size_t k = 0; k < n; ++k) {
@@ -64,9 +66,22 @@ std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double
                 for (int j = 0; j < 3; ++j)
                     cov[i][j] += weight[k] * (centroid[k][i] - mean[i]) * (centroid[k][j] - mean[j]);
         const std::array<double, 3> e = symmetric_eigenvalues(cov);
-        if (!(e[1] < thin_line_ratio * e[0])) return;
-        thin.push_back(at);
+        return e[1] < thin_line_ratio * e[0];
+    };
+    // Brick by brick in parallel, each brick's thin cells in the order of their bits, the bricks
+    // in ascending order: the same list for any thread count.
+    std::vector<std::vector<std::array<std::int64_t, 3>>> per_brick(grid.brick_keys.size());
+    tbb::parallel_for(std::size_t{0}, grid.brick_keys.size(), [&](std::size_t b) {
+        std::uint64_t record = grid.brick_first[b];
+        for (std::uint64_t mask = grid.brick_masks[b]; mask != 0; mask &= mask - 1, ++record) {
+            if (!(static_cast<double>(grid.cells[record].count) > iso)) continue;
+            const std::array<std::int64_t, 3> at =
+                grid.cell_in_brick(grid.brick_keys[b], static_cast<unsigned>(std::countr_zero(mask)));
+            if (is_thin(at)) per_brick[b].push_back(at);
+        }
     });
+    std::vector<std::array<std::int64_t, 3>> thin;
+    for (const auto& cells : per_brick) thin.insert(thin.end(), cells.begin(), cells.end());
     std::sort(thin.begin(), thin.end(),
               [](const auto& a, const auto& b) { return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]); });
     return thin;
@@ -87,14 +102,9 @@ std::vector<std::uint64_t> blocks_around(const std::vector<std::array<std::int64
                                    std::uint64_t(x));
                 }
     }
-    std::sort(keys.begin(), keys.end());
+    tbb::parallel_sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     return keys;
-}
-
-std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso) {
-    return blocks_around(thin_cells(grid, iso), {grid.bricks[0], grid.bricks[1], grid.bricks[2]}, CellGrid::brick_bits,
-                         1);
 }
 
 } // namespace lasmesh

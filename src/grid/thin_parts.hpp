@@ -22,6 +22,10 @@ constexpr double thin_line_ratio = 0.2;
 // the coarse sheet's tube around a thin part reaches a cell past it (measured on the deck: kept
 // to the thin cells alone, the railings stay 4.8 cm off their truth; one cell past, 1.5 cm).
 constexpr std::int64_t thin_mesh_reach = 1;
+// The points of the cells within this many cells of a thin cell are read again: one past those
+// meshed fine, so that every fine cell whose vertex or edges a kept triangle uses has all its
+// points (and its neighbours theirs).
+constexpr std::int64_t thin_read_reach = 2;
 
 // The thin surface cells (count above `iso`) of `grid`, z slowest then y then x.
 std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double iso);
@@ -31,11 +35,6 @@ std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double
 // `count` blocks an axis. Shift 0: cells; CellGrid::brick_bits: bricks.
 std::vector<std::uint64_t> blocks_around(const std::vector<std::array<std::int64_t, 3>>& cells,
                                          const std::array<std::int64_t, 3>& count, int shift, std::int64_t reach);
-
-// The keys of the bricks (grid.brick_keys' numbering) that hold a thin surface cell, and of the
-// bricks around them (26 neighbours: the points the finer mesh needs a few cells past the thin
-// part, and a sheet reaches past the points), ascending.
-std::vector<std::uint64_t> thin_bricks(const CellGrid& grid, double iso);
 
 // The eigenvalues of a symmetric 3 x 3 matrix, largest first (the trigonometric solution of the
 // characteristic cubic, Smith 1961).

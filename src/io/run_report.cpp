@@ -24,11 +24,11 @@ std::string run_report_json(const RunReport& r) {
     json["sparse_grid"] = {{"occupied_cells", r.occupied_cells}, {"occupied_bricks", r.occupied_bricks},
                            {"median_count", r.median_count},     {"brick_cells", CellGrid::brick_cells},
                            {"pool_bytes", r.pool_bytes},         {"host_grid_bytes", r.host_grid_bytes}};
-    if (r.thin_bricks > 0)
+    if (r.thin_cells > 0)
         json["thin_parts"] = {
-            {"bricks", r.thin_bricks}, {"cell_size", r.grid.cell_size / 2}, {"read_seconds", r.thin_read}};
+            {"cells", r.thin_cells}, {"cell_size", r.grid.cell_size / 2}, {"read_seconds", r.thin_read}};
     else if (!r.thin_unrefined.empty())
-        json["thin_parts"] = {{"bricks", 0}, {"unrefined", r.thin_unrefined}};
+        json["thin_parts"] = {{"cells", 0}, {"unrefined", r.thin_unrefined}};
     json["pieces"] = {
         {"connected", r.pieces.pieces}, {"removed", r.pieces.removed}, {"min_diagonal", r.pieces.min_diagonal}};
     json["simplify"] = {{"triangles_before", r.simplify.triangles_before},

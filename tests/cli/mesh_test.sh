@@ -214,10 +214,10 @@ a, b = (json.load(open(f)) for f in sys.argv[1:3])
 rest = lambda x: sum(p['triangles'] for p in x['parts'] if p['part'] != 'railings')
 assert rest(b) < 1.2 * rest(a), (rest(a), rest(b))
 assert b['triangles'] < 1.5 * a['triangles'], (a['triangles'], b['triangles'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
-check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin parts     [0-9]* bricks of 64 cells meshed at cells of 0.0"
+check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin parts     [0-9]* cells meshed at cells of 0.0"
 check "--refine-thin: and the report" python3 -c "
 import json, sys; r = json.load(open(sys.argv[1])); t = r['thin_parts']
-assert t['bricks'] > 100 and abs(t['cell_size'] - r['grid']['cell_size'] / 2) < 1e-12, t" "$dir/thin.json"
+assert t['cells'] > 100 and abs(t['cell_size'] - r['grid']['cell_size'] / 2) < 1e-12, t" "$dir/thin.json"
 "$lasmesh" "$dir/deck.las" -o "$dir/thin1.ply" --refine-thin --threads 1 --chunk-mb 1 -q
 check "--refine-thin: the same bytes on one thread and in small slices" cmp -s "$dir/thin.ply" "$dir/thin1.ply"
 "$lasmesh" - -o "$dir/thin-stdin.ply" --refine-thin < "$dir/deck.las" 2> "$dir/err.txt"; rc=$?
@@ -230,7 +230,7 @@ check "--refine-thin: the sheet only (exit $rc)" test "$rc" -eq 1 -a ! -e "$dir/
 check "--refine-thin on a sphere: the summary says none refined, and why" contains "$dir/thin-sphere.txt" "^thin parts     none refined: no thin parts found"
 check "... and the report" python3 -c "
 import json, sys; t = json.load(open(sys.argv[1]))['thin_parts']
-assert t == {'bricks': 0, 'unrefined': 'no thin parts found'}, t" "$dir/thin-sphere.json"
+assert t == {'cells': 0, 'unrefined': 'no thin parts found'}, t" "$dir/thin-sphere.json"
 check "... and the mesh is the plain run's" cmp -s "$dir/thin-sphere.ply" "$dir/sr.ply"
 
 finish "cli mesh"
