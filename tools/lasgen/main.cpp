@@ -38,12 +38,13 @@ struct Options {
     std::vector<int> color;
     std::string output = "-";
     std::string order = "random";
-    std::uint32_t split = 1;    // write the points into this many files
-    bool split_vary = false;    // each file of a split its own offset, scale and point format
-    std::uint32_t split_xy = 0; // write the points into N x N files by their x and y
-    std::string measure;        // measure this mesh against the scene's true surfaces instead
-    std::string json;           // and write the measurement as JSON here too
-    std::vector<double> within; // and measure only the true surfaces in this world box
+    std::uint32_t split = 1;         // write the points into this many files
+    bool split_vary = false;         // each file of a split its own offset, scale and point format
+    std::uint32_t split_xy = 0;      // write the points into N x N files by their x and y
+    std::string measure;             // measure this mesh against the scene's true surfaces instead
+    std::string json;                // and write the measurement as JSON here too
+    std::vector<double> within;      // and measure only the true surfaces in this world box
+    std::size_t samples = 1'000'000; // points spread over the mesh, and over the true surfaces
 };
 
 // A Morton (Z-order) key of a position on a 2 cm lattice: points close in space get close keys.
@@ -191,6 +192,7 @@ void generate(const Options& o) {
     if (!o.measure.empty()) {
         lasgen::TruthOptions truth;
         truth.within = o.within;
+        truth.mesh_samples = truth.truth_samples = o.samples;
         const lasgen::TruthReport report = lasgen::measure_against_truth(scene, lasmesh::read_mesh(o.measure), truth);
         std::cout << lasgen::truth_table(report, truth);
         if (!o.json.empty()) {
@@ -287,6 +289,11 @@ int main(int argc, char** argv) {
         ->expected(6)
         ->delimiter(',');
     app.add_option("--json", o.json, "With --measure: also write the measurement as JSON to this file");
+    app.add_option("--samples", o.samples,
+                   "With --measure: points spread over the mesh and over the true surfaces, each (fewer: faster, "
+                   "coarser figures)")
+        ->capture_default_str()
+        ->check(CLI::Range(std::size_t{1000}, std::size_t{100'000'000}));
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
