@@ -590,7 +590,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             // The sheet releases the grid's cells as soon as it no longer reads them.
             m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
                                                 : extract_closed_surface(cells, iso, o.placement);
-            if (refined && pieces) { // the thin parts' bricks from the finer grid, the rest from this one
+            if (refined && pieces) { // the cells near thin parts from the finer grid, the rest from this one
                 // A quarter of the iso: the same points per area in cells of half the edge; an
                 // automatic one rounded as automatic_iso rounds (not the finer grid's own median,
                 // which would follow how far around the thin parts its points were read).
