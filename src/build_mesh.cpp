@@ -137,7 +137,7 @@ void check_extraction_memory(const CellGrid& grid, double iso, const BuildOption
 }
 
 // Far more points a cell than a grid chosen from the data aims at: the grid is much coarser than the points.
-constexpr double too_coarse_points_per_cell = 100 * auto_grid_points_per_cell;
+constexpr double too_coarse_points_per_cell = 100 * auto_grid_most_points_per_cell;
 
 // Why the mesh came out empty, and what to try: the step that removed the last triangle, and
 // whether the grid suits the points at all (the usual cause when pieces are all removed).

@@ -695,17 +695,19 @@ TEST_CASE("--grid auto's second look: coarsened until the occupied cells' median
     test::TempDir dir;
     write_scene(dir.file("s.las"), lasgen::SceneKind::sphere, 20000, 4);
     CellGrid grid = accumulate_file(dir.file("s.las"), grid_of("512")); // far too fine: about a point a cell
-    REQUIRE(grid.median_count() < auto_grid_min_median);
+    const std::uint64_t min_median = auto_grid_min_median(auto_grid_most_points_per_cell);
+    REQUIRE(min_median == 4);
+    REQUIRE(grid.median_count() < min_median);
     // The same merges by hand: while the median is under 4.
     CellGrid by_hand = accumulate_file(dir.file("s.las"), grid_of("512"));
     int merges = 0;
-    while (by_hand.median_count() < auto_grid_min_median) by_hand = coarsen_grid(by_hand), ++merges;
+    while (by_hand.median_count() < min_median) by_hand = coarsen_grid(by_hand), ++merges;
     REQUIRE(merges >= 2);
-    const std::string said = coarsen_while_sparse(grid);
+    const std::string said = coarsen_while_sparse(grid, min_median);
     CHECK(grid.spec.dims == by_hand.spec.dims);
-    CHECK(grid.median_count() >= auto_grid_min_median);
+    CHECK(grid.median_count() >= min_median);
     CHECK(said.find(std::to_string(1 << merges) + " times coarser") != std::string::npos);
-    CHECK(coarsen_while_sparse(grid).empty()); // dense enough: left alone
+    CHECK(coarsen_while_sparse(grid, min_median).empty()); // dense enough: left alone
 }
 
 TEST_CASE("a grid too fine for its points: coarsened while most occupied cells hold a single point") {
@@ -722,6 +724,6 @@ TEST_CASE("a grid too fine for its points: coarsened while most occupied cells h
     CHECK(grid.median_count() > 1);
     CHECK(grid.occupied_cells() == by_hand.occupied_cells());
     CHECK(grid.points_read == by_hand.points_read);
-    CHECK(coarsen_while_single_points(grid) == 0);     // two points a cell or more: left alone
-    CHECK(grid.median_count() < auto_grid_min_median); // finer than the automatic grid's look would leave it
+    CHECK(coarsen_while_single_points(grid) == 0); // two points a cell or more: left alone
+    CHECK(grid.median_count() < auto_grid_min_median(auto_grid_most_points_per_cell)); // finer than 12 a cell leaves it
 }

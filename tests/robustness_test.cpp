@@ -176,12 +176,26 @@ TEST_CASE("header bounds no record can reach are refused, naming the field") {
 }
 
 TEST_CASE("--grid auto: the cell from the density, clamped, and too few points refused") {
-    // A flat 100 x 100 scan of a million points: 100 per unit of area, 12 per cell: about 288 cells.
+    // A flat 100 x 100 scan (area 100 * 100 + 100 * 0.5 = 10,050). Four million points: 12 a
+    // cell (the most), a cell of sqrt(12 * 10050 / 4e6) = 0.1736: 576 cells.
+    const GridChoice dense = choose_grid(4'000'000, {{0, 0, 0}, {100, 100, 0.5}}, "x.las");
+    CHECK(dense.request.kind == GridRequest::Kind::longest_axis);
+    CHECK(dense.request.dims[0] == 576);
+    CHECK(dense.points_per_cell == 12);
+    CHECK(dense.min_median == 4);
+    CHECK(dense.reason.find("12 a cell: 576 cells") != std::string::npos);
+    // A million: 100,000 surface cells at 10 a cell, sqrt(10 * 10050 / 1e6) = 0.3170: 315 cells.
     const GridChoice flat = choose_grid(1'000'000, {{0, 0, 0}, {100, 100, 0.5}}, "x.las");
-    CHECK(flat.request.kind == GridRequest::Kind::longest_axis);
-    CHECK(flat.request.dims[0] == 288); // area 100 * 100 + 100 * 0.5: 100 / 0.347
-    CHECK(flat.reason.find("288 cells") != std::string::npos);
-    CHECK(choose_grid(1000, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_min_cells);
+    CHECK(flat.request.dims[0] == 315);
+    CHECK(flat.points_per_cell == 10);
+    CHECK(flat.min_median == 3);
+    // 100,000: 3 a cell (the fewest), sqrt(3 * 10050 / 1e5) = 0.5491: 182 cells; coarsened only
+    // below a median of 2.
+    const GridChoice sparse = choose_grid(100'000, {{0, 0, 0}, {100, 100, 0.5}}, "x.las");
+    CHECK(sparse.request.dims[0] == 182);
+    CHECK(sparse.points_per_cell == 3);
+    CHECK(sparse.min_median == 2);
+    CHECK(choose_grid(300, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_min_cells);
     CHECK(choose_grid(1'000'000'000'000, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_max_cells);
     CHECK_THROWS_WITH_AS(choose_grid(99, {{0, 0, 0}, {1, 1, 1}}, "x.las"),
                          doctest::Contains("too few to outline a surface"), Error);

@@ -16,30 +16,41 @@
 namespace lasmesh {
 
 struct GridChoice {
-    GridRequest request; // cells along the longest axis
-    std::string reason;  // for the summary: "the points cover about 120 m2, ...: 180 cells"
+    GridRequest request;        // cells along the longest axis
+    std::string reason;         // for the summary: "the points cover about 120 m2, ...: 180 cells"
+    double points_per_cell{};   // aimed at (auto_grid_points_per_cell)
+    std::uint64_t min_median{}; // the second look coarsens while the occupied cells' median is below this
 };
 
-// Points per surface cell aimed at, and the cells along the longest axis allowed.
-constexpr double auto_grid_points_per_cell = 12;
+// Points per surface cell aimed at: 12 on large inputs, so that a scan's noise is averaged out
+// and the mesh stays small; a small input is cheap to mesh at any cell, so it gets cells for about
+// auto_grid_detail_cells surface cells, down to 3 points a cell (a plane needs 3; a median of 2 a
+// cell still closes a sheet). Measured on the generated deck and autzen-thin (docs/benchmarks.md,
+// "Sparse data"): at 300,000 points 3 a cell halves the error of 12.
+constexpr double auto_grid_most_points_per_cell = 12, auto_grid_fewest_points_per_cell = 3;
+constexpr double auto_grid_detail_cells = 100'000;
+// clamp(point_count / auto_grid_detail_cells, fewest, most).
+double auto_grid_points_per_cell(std::uint64_t point_count);
+// The cells along the longest axis allowed.
 constexpr std::uint32_t auto_grid_min_cells = 16, auto_grid_max_cells = 1024;
 // Fewer points than this cannot outline a closed surface at the coarsest grid.
 constexpr std::uint64_t auto_grid_min_points = 100;
 
-// The grid for `point_count` points in `bounds`, assuming they lie on a surface whose area is about
-// the sum of the two largest face areas of the bounding box (a terrain, a facade, a hull seen
-// from around). Throws Error (input) when there are too few points for any surface, naming the
-// option to give instead.
+// The grid for `point_count` points in `bounds`, auto_grid_points_per_cell in a surface cell, assuming they lie on a
+// surface whose area is about the sum of the two largest face areas of the bounding box (a terrain, a facade, a hull
+// seen from around). Throws Error (input) when there are too few points for any surface, naming the option to give
+// instead.
 GridChoice choose_grid(std::uint64_t point_count, const Bounds& bounds, const std::string& input_name);
 
 // After accumulating: the grid is coarsened (cells merged 2 x 2 x 2) while the median count of
-// the occupied cells is below this, and the longest axis has more than auto_grid_min_cells.
-constexpr std::uint64_t auto_grid_min_median = 4;
+// the occupied cells is below a third of the points a cell aimed at (4 for 12), at least 2, and the
+// longest axis has more than auto_grid_min_cells.
+std::uint64_t auto_grid_min_median(double points_per_cell);
 
 // The automatic grid's second look: coarsens `grid` while the median count of its occupied cells is
-// below auto_grid_min_median and its longest axis has more than auto_grid_min_cells. Returns
-// what was done, for the summary ("" when nothing).
-std::string coarsen_while_sparse(CellGrid& grid);
+// below `min_median` and its longest axis has more than auto_grid_min_cells. Returns what was
+// done, for the summary ("" when nothing).
+std::string coarsen_while_sparse(CellGrid& grid, std::uint64_t min_median);
 
 // The automatic grid's second look at a grid accumulated as `choice` asked: coarsen_while_sparse,
 // and grid_reason says why it is this grid ("auto: ...").

@@ -75,10 +75,10 @@ CellGrid coarsen_grid(const CellGrid& fine) {
     return coarse;
 }
 
-std::string coarsen_while_sparse(CellGrid& grid) {
+std::string coarsen_while_sparse(CellGrid& grid, std::uint64_t min_median) {
     int merged = 0;
     std::uint64_t median = grid.median_count();
-    while (median > 0 && median < auto_grid_min_median &&
+    while (median > 0 && median < min_median &&
            std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells) {
         grid = coarsen_grid(grid);
         median = grid.median_count();
@@ -86,7 +86,7 @@ std::string coarsen_while_sparse(CellGrid& grid) {
     }
     if (merged == 0) return {};
     return "then " + std::to_string(1 << merged) + " times coarser: the occupied cells held a median of fewer than " +
-           std::to_string(auto_grid_min_median) + " points, now " + std::to_string(median);
+           std::to_string(min_median) + " points, now " + std::to_string(median);
 }
 
 int coarsen_while_single_points(CellGrid& grid) {
@@ -100,7 +100,7 @@ int coarsen_while_single_points(CellGrid& grid) {
 }
 
 void finish_chosen_grid(CellGrid& grid, const GridChoice& choice) {
-    const std::string coarsened = coarsen_while_sparse(grid);
+    const std::string coarsened = coarsen_while_sparse(grid, choice.min_median);
     grid.grid_reason = "auto: " + choice.reason + (coarsened.empty() ? "" : "; " + coarsened);
 }
 

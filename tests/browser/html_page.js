@@ -3,8 +3,10 @@
 // cut, and checks what its reader would see: it opens without an error and without asking for
 // anything, shows the file's triangle count, draws the mesh, measures between two vertices
 // clicked on the screen to a millimetre of their distance in the file, and seen from above in
-// flat colours averages the mesh's own colours (its up-facing triangles' colours weighted by their
-// area in plan) to within 3/255; with a heat map, the heat-map PLY's colours the same way (5/255).
+// flat colours averages the mesh's own colours (the topmost surface's over a plan lattice, as
+// ply_facts.py gives them; the pixels inside the drawn mesh, not those blended with the background
+// at its outline and holes) to within 3/255; with a heat map, the heat-map PLY's colours the same
+// way (5/255).
 // Prints "ok - ..." or "not ok - ..." a check; exits 1 if any failed, 77 if it cannot run here.
 //
 // Usage: node html_page.js MODULES PAGE.html EXPECTED.json [--screenshot FILE.png] [--heat HEAT.json]
@@ -106,8 +108,8 @@ const tally = checks(), check = tally.check;
     await page.click("#measure");
     await page.evaluate(() => { window.lasmesh.setFlat(true); window.lasmesh.topView(); });
     const plan = await frame();
-    const apart = plan.mean.map((m, k) => Math.abs(m - expected.plan_colour[k]));
-    check(`from above, in flat colours, the mesh's colours (mean ${plan.mean.map((m) => m.toFixed(1)).join(" ")} against ` +
+    const apart = plan.insideMean.map((m, k) => Math.abs(m - expected.plan_colour[k]));
+    check(`from above, in flat colours, the mesh's colours (mean ${plan.insideMean.map((m) => m.toFixed(1)).join(" ")} against ` +
       `${expected.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...apart) <= 3, apart);
     if (heat) {
       const shown = await page.evaluate(() => !document.getElementById("heat-choice").hidden);
@@ -115,12 +117,11 @@ const tally = checks(), check = tally.check;
       await page.click("#heat");
       const legend = await page.evaluate(() => !document.getElementById("heat-legend").hidden);
       check("shows its legend", legend);
-      // Within 5/255, not 3: the ramp changes fast between neighbouring vertices, so the pixels
-      // where the mesh's edge meets the background, and the parts seen at a slant, weigh more than
-      // in the mesh's own colours. Blending the ramp in linear light instead misses by 17/255.
+      // Within 5/255, not 3: the ramp changes fast between neighbouring vertices, so the parts seen
+      // at a slant weigh more than in the mesh's own colours. Blending the ramp in linear light instead misses by 17/255.
       const hot = await frame();
-      const off = hot.mean.map((m, k) => Math.abs(m - heat.plan_colour[k]));
-      check(`the heat map, from above, in flat colours: the heat-map PLY's colours (mean ${hot.mean.map((m) => m.toFixed(1)).join(" ")} ` +
+      const off = hot.insideMean.map((m, k) => Math.abs(m - heat.plan_colour[k]));
+      check(`the heat map, from above, in flat colours: the heat-map PLY's colours (mean ${hot.insideMean.map((m) => m.toFixed(1)).join(" ")} ` +
         `against ${heat.plan_colour.map((m) => m.toFixed(1)).join(" ")})`, Math.max(...off) <= 5, off);
     }
   });
