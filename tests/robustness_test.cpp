@@ -189,11 +189,11 @@ TEST_CASE("--grid auto: the cell from the density, clamped, and too few points r
     CHECK(flat.request.dims[0] == 315);
     CHECK(flat.points_per_cell == 10);
     CHECK(flat.min_median == 3);
-    // 100,000: 3 a cell (the fewest), sqrt(3 * 10050 / 1e5) = 0.5491: 182 cells; coarsened only
-    // below a median of 2.
+    // 100,000: 3.5 a cell (the fewest), sqrt(3.5 * 10050 / 1e5) = 0.5931: 169 cells; coarsened
+    // only below a median of 2.
     const GridChoice sparse = choose_grid(100'000, {{0, 0, 0}, {100, 100, 0.5}}, "x.las");
-    CHECK(sparse.request.dims[0] == 182);
-    CHECK(sparse.points_per_cell == 3);
+    CHECK(sparse.request.dims[0] == 169);
+    CHECK(sparse.points_per_cell == 3.5);
     CHECK(sparse.min_median == 2);
     CHECK(choose_grid(300, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_min_cells);
     CHECK(choose_grid(1'000'000'000'000, {{0, 0, 0}, {100, 100, 1}}, "x.las").request.dims[0] == auto_grid_max_cells);

@@ -24,10 +24,10 @@ struct GridChoice {
 
 // Points per surface cell aimed at: 12 on large inputs, so that a scan's noise is averaged out
 // and the mesh stays small; a small input is cheap to mesh at any cell, so it gets cells for about
-// auto_grid_detail_cells surface cells, down to 3 points a cell (a plane needs 3; a median of 2 a
-// cell still closes a sheet). Measured on the generated deck and autzen-thin (docs/benchmarks.md,
-// "Sparse data"): at 300,000 points 3 a cell halves the error of 12.
-constexpr double auto_grid_most_points_per_cell = 12, auto_grid_fewest_points_per_cell = 3;
+// auto_grid_detail_cells surface cells, down to 3.5 points a cell. Measured (docs/benchmarks.md,
+// "Sparse data"): the generated deck at 300,000 points is best at 4 a cell (at 3 its deck opens
+// into holes), autzen-thin's aerial points at 3; 3.5 is within 2% and 10% of either's best.
+constexpr double auto_grid_most_points_per_cell = 12, auto_grid_fewest_points_per_cell = 3.5;
 constexpr double auto_grid_detail_cells = 100'000;
 // clamp(point_count / auto_grid_detail_cells, fewest, most).
 double auto_grid_points_per_cell(std::uint64_t point_count);
