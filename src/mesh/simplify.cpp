@@ -7,8 +7,9 @@
 //
 // - a bound, not a target: every face carries a bound on how far the original surface it stands
 //   for may be from it, both ways (star_errors: the two stars around a collapse compared along
-//   their normal, after Cohen, Manocha and Olano 1997, the steps of a face's history added), and
-//   no collapse may take that past the bound, so every point of the result lies within the bound
+//   their normal, after Cohen, Manocha and Olano 1997, the steps of a face's history added, signed
+//   along the face's normal so that steps up and down do not add up), and no collapse may take that
+//   past the bound, so every point of the result lies within the bound
 //   of the original surface and every point of the original within it of the result; no piece
 //   vanishes; among the allowed collapses of a vertex, the one adding the least error is made;
 // - no face turns over: a collapse is refused when a new face's normal points away from the
@@ -36,6 +37,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 
 namespace lasmesh {
 
@@ -93,6 +95,27 @@ double segment_distance(const V3& p, const V3& a, const V3& b) {
 float float_at_least(double value) {
     const float f = static_cast<float>(value);
     return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// The nearest float at or below `value`.
+float float_at_most(double value) {
+    const float f = static_cast<float>(value);
+    return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+// How far the original surface a face stands for may be from it, two ways (both bounds hold):
+// `total`, the sum of the largest steps of its history; and the points' offsets from the face
+// split along its normal, within [below, above], and across it, within `across`. Each step of a
+// collapse moves points along one direction; split along the face's normal, steps up and down
+// cancel (a noisy flat area is flattened without the bound filling up), and only the turn of the
+// normal between steps adds across.
+struct FaceError {
+    float below, above, across, total; // FaceError{} is zero
+    std::array<float, 3> axis;         // the direction of its last step (a unit vector), or zero
+};
+
+double bound(const FaceError& e) {
+    return std::min(double(e.total), std::max(-double(e.below), double(e.above)) + double(e.across));
 }
 
 // A point as seen along a direction n: its coordinates across n, and its height along it.
@@ -188,9 +211,9 @@ struct Shared {
     std::vector<std::uint32_t> slot;
     std::unique_ptr<PlaneSums[]> stored;
     std::vector<char> face_alive;
-    std::vector<float> face_error; // how far the original surface it stands for may be
-    std::vector<char> locked;      // vertices that never move
-    std::vector<char> outside;     // per vertex, this pass: faces in other blocks, or in none
+    std::vector<FaceError> face_error; // how far the original surface it stands for may be
+    std::vector<char> locked;          // vertices that never move
+    std::vector<char> outside;         // per vertex, this pass: faces in other blocks, or in none
     double bound = 0;
 };
 
@@ -377,7 +400,7 @@ class Block {
     // The largest error u's faces carry.
     double carried(std::uint32_t u) const {
         double most = 0;
-        for (std::uint32_t i = 0; i < size_[u]; ++i) most = std::max(most, double(face_error_[fan(u)[i]]));
+        for (std::uint32_t i = 0; i < size_[u]; ++i) most = std::max(most, bound(face_error_[fan(u)[i]]));
         return most;
     }
 
@@ -505,7 +528,7 @@ class Block {
             return Seen{dot(d, t1), dot(d, t2), dot(d, n)};
         };
         // The fans: old faces (u, a, b), and the new faces (v, a, b) those not on edge uv become.
-        old_fan_.clear(), new_fan_.clear(), old_error_.clear();
+        old_fan_.clear(), new_fan_.clear(), old_error_.clear(), old_split_.clear(), old_normal_.clear();
         double inherited = 0;
         std::size_t start = 0; // an open fan's first face, the one after its border edge u-a
         const Seen su{0, 0, 0}, sv = seen(pv);
@@ -520,8 +543,11 @@ class Block {
             if (!(area > 1e-9 * scale)) return false; // folded over, as seen along n
             if (other != u && (a == v || a == other)) start = old_fan_.size();
             old_fan_.push_back({sa, sb});
-            old_error_.push_back(face_error_[fi]);
-            inherited = std::max(inherited, double(face_error_[fi]));
+            old_error_.push_back(bound(face_error_[fi]));
+            old_split_.push_back(face_error_[fi]);
+            const auto& axis = face_error_[fi].axis;
+            old_normal_.push_back({axis[0], axis[1], axis[2]});
+            inherited = std::max(inherited, old_error_.back());
             if (a == v || b == v) continue; // goes
             if (!(cross2(sv, sa, sb) > 1e-9 * scale)) return false;
             new_fan_.push_back({sa, sb});
@@ -537,10 +563,17 @@ class Block {
         if (reached != (border ? 0 : 1)) return false;
         // Per new face: the largest height between the stars over it, at u and at the crossings.
         const std::size_t m = new_fan_.size();
+        // And per old face i and new face j, the lowest and highest over the piece of the overlay
+        // they share (pair_[i * m + j]; 0 at the link's vertices, which every piece has).
         step_.assign(m, 0);
-        for (const auto& [sa, sb] : old_fan_)
-            for (const Seen* a : {&sa, &sb}) {                   // the edges from u; inner ones twice: harmless
-                const double v_side = a->x * sv.y - a->y * sv.x; // v's side of the line u-a
+        pair_below_.assign(old_fan_.size() * m, 0), pair_above_.assign(old_fan_.size() * m, 0);
+        const auto at_pair = [&](std::size_t i, std::size_t j, double up) {
+            pair_below_[i * m + j] = std::min(pair_below_[i * m + j], up);
+            pair_above_[i * m + j] = std::max(pair_above_[i * m + j], up);
+        };
+        for (std::size_t i = 0; i < old_fan_.size(); ++i)
+            for (const Seen* a : {&old_fan_[i].first, &old_fan_[i].second}) { // the edges from u; inner ones twice
+                const double v_side = a->x * sv.y - a->y * sv.x;              // v's side of the line u-a
                 for (std::size_t j = 0; j < m; ++j)
                     for (const Seen* w : {&new_fan_[j].first, &new_fan_[j].second}) {
                         // A proper crossing: v and w on opposite sides of u-a, u and a of v-w.
@@ -551,7 +584,9 @@ class Block {
                         const double det = fx * a->y - fy * a->x;
                         const double s = (fx * sv.y - fy * sv.x) / det, t = (a->x * sv.y - a->y * sv.x) / det;
                         // On edge v-w of face j (the other face on it finds it too).
-                        step_[j] = std::max(step_[j], std::abs(s * a->h - (sv.h + t * (w->h - sv.h))));
+                        const double up = sv.h + t * (w->h - sv.h) - s * a->h; // new surface over old
+                        step_[j] = std::max(step_[j], std::abs(up));
+                        at_pair(i, j, up); // on edge u-a of face i (the other face on it finds it too)
                     }
             }
         // u over the new surface: the height there, for the faces that hold it.
@@ -565,24 +600,43 @@ class Block {
             if (wv < slack || wa < slack || wb < slack) continue;
             u_inside = true;
             holds_u_[j] = 1;
-            step_[j] = std::max(step_[j], std::abs(wv * sv.h + wa * sa.h + wb * sb.h));
+            const double up = wv * sv.h + wa * sa.h + wb * sb.h; // u is at height 0
+            step_[j] = std::max(step_[j], std::abs(up));
+            for (std::size_t i = 0; i < old_fan_.size(); ++i) at_pair(i, j, up); // u is a corner of every old face
         }
         if (!border && !u_inside) return false; // an inner u lies inside its link: numbers went astray
         // A new face carries the largest error of the old faces it overlaps. Old face i is the part
         // of the old polygon in the sector of directions from u between its edges, so a new face
         // overlaps it when their ranges of directions from u overlap (all of them when it holds u).
-        new_error_.resize(m);
+        // Split along the new face's normal N: a point's offset from an old face, a n_i + L (a in
+        // [below, above], |L| <= across, L across n_i), is a c + L.N along N (|L.N| <= across s,
+        // c = n_i.N, s = sqrt(1 - c^2)) and at most |a| s + across across it; the step adds its
+        // height times n.N along N and times the sine across.
+        new_error_.resize(m), new_split_.resize(m);
         for (std::size_t j = 0; j < m; ++j) {
-            double carried = 0;
-            if (holds_u_[j]) {
-                carried = inherited;
-            } else {
-                const auto [from, to] = directions(sv, new_fan_[j].first, new_fan_[j].second);
-                for (std::size_t i = 0; i < old_fan_.size(); ++i)
-                    if (old_error_[i] > carried && arcs_overlap(from, to, old_fan_[i].first, old_fan_[i].second))
-                        carried = old_error_[i];
+            double carried = 0, below = 0, above = 0, across = 0;
+            std::optional<std::pair<double, double>> range; // of directions from u, when the face does not hold u
+            if (!holds_u_[j]) range = directions(sv, new_fan_[j].first, new_fan_[j].second);
+            for (std::size_t i = 0; i < old_fan_.size(); ++i) {
+                if (range && !arcs_overlap(range->first, range->second, old_fan_[i].first, old_fan_[i].second))
+                    continue;
+                carried = std::max(carried, old_error_[i]);
+                const FaceError& e = old_split_[i];
+                const double c = std::clamp(dot(old_normal_[i], n), -1.0, 1.0), sine = std::sqrt(1 - c * c);
+                const double lo = std::min(e.below * c, e.above * c), hi = std::max(e.below * c, e.above * c);
+                // The step along n over the piece they share adds as it is.
+                below = std::min(below, lo - e.across * sine + pair_below_[i * m + j]);
+                above = std::max(above, hi + e.across * sine + pair_above_[i * m + j]);
+                // (1e-6: the axis is kept in floats, a unit vector to about 1e-7.)
+                across = std::max(across, std::max(-double(e.below), double(e.above)) * (sine + 1e-6) + e.across);
             }
-            new_error_[j] = carried + step_[j];
+            const double total = carried + step_[j];
+            new_split_[j] = {float_at_most(below),
+                             float_at_least(above),
+                             float_at_least(across),
+                             float_at_least(total),
+                             {float(n[0]), float(n[1]), float(n[2])}};
+            new_error_[j] = bound(new_split_[j]);
         }
         if (!border) return true;
         // The sliver v, u, other: the old faces over it (u outside the new polygon) or the new
@@ -619,6 +673,13 @@ class Block {
             for (std::size_t j = 0; j < m; ++j)
                 if (overlap(sv, new_fan_[j].first, new_fan_[j].second, sv, so, su))
                     new_error_[j] = std::max(new_error_[j], std::max(border_error, sliver_error) + step + across);
+        }
+        // The sliver's points are matched across it, not along n: the split does not hold there,
+        // so a border collapse's faces carry their total alone (any offset within it, either way).
+        for (std::size_t j = 0; j < m; ++j) {
+            const float total = float_at_least(new_error_[j]);
+            new_split_[j] = {-total, total, total, total, {}};
+            new_error_[j] = total;
         }
         return true;
     }
@@ -756,7 +817,7 @@ class Block {
             }
             for (std::uint32_t& w : f)
                 if (w == u) w = v;
-            face_error_[fi] = float_at_least(new_error_[kept++]);
+            face_error_[fi] = new_split_[kept++];
             append(v, fi);
         }
         size_[u] = 0;
@@ -784,7 +845,7 @@ class Block {
     std::vector<std::uint32_t> pool_, begin_, size_, capacity_; // the faces around each vertex
     std::vector<char> interior_, movable_, target_, alive_, queued_;
     std::vector<V3> position_, reference_;
-    std::vector<float> face_error_;
+    std::vector<FaceError> face_error_;
     std::vector<std::uint32_t> stamp_;
     std::vector<Quadric> quadric_;
     std::vector<double> weight_;
@@ -798,7 +859,9 @@ class Block {
     // star_errors': the fans as seen along n, the old faces' errors, per new face its largest
     // step and its error (one per face of u's not on edge uv, in fan order: collapse() follows it).
     std::vector<std::pair<Seen, Seen>> old_fan_, new_fan_;
-    std::vector<double> old_error_, step_, new_error_;
+    std::vector<double> old_error_, step_, pair_below_, pair_above_, new_error_;
+    std::vector<FaceError> old_split_, new_split_;
+    std::vector<V3> old_normal_;
     std::vector<char> holds_u_;
 };
 
@@ -862,7 +925,7 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     s.slot.assign(nv, 0);
     s.locked.assign(nv, 0);
     s.face_alive.assign(nf, 1);
-    s.face_error.assign(nf, 0);
+    s.face_error.assign(nf, FaceError{});
     if (options.lock_border) { // a vertex on an edge only one face uses
         std::vector<std::uint64_t> all;
         all.reserve(3 * nf);
@@ -964,7 +1027,7 @@ SimplifyReport simplify_mesh(Mesh& mesh, const SimplifyOptions& options) {
     double reached = 0;
     for (std::size_t f = 0; f < nf; ++f)
         if (s.face_alive[f])
-            mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, double(s.face_error[f]));
+            mesh.triangles[kept++] = mesh.triangles[f], reached = std::max(reached, bound(s.face_error[f]));
     mesh.triangles.resize(kept);
     // What the passes held goes before the clean-up takes its own.
     s.stored.reset();
