@@ -118,8 +118,8 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     }
     grid.index_bricks();
 
-    // Every input's points: read by each tile that touches it (the same count each time), each
-    // point in the cells of one tile or outside the grid.
+    // Every input's points: each counted by one tile (the one it lies in, or outside the grid the
+    // first to read it), so the counts add up to the input's.
     std::vector<std::optional<TileInputCount>> per_input(plan.inputs.size());
     std::map<std::uint64_t, std::vector<std::string>> warnings; // per input, from the first tile to read it
     for (std::size_t k = 0; k < tiles.size(); ++k) {
@@ -127,20 +127,22 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             if (c.input >= per_input.size())
                 throw_input_error(tile_path(plan, k), "names input " + std::to_string(c.input) + ", not in the plan");
             std::optional<TileInputCount>& seen = per_input[c.input];
-            if (seen && (seen->records != c.records || seen->outside != c.outside))
-                throw_input_error(plan.inputs[c.input].path,
-                                  "two tiles read it differently (" + std::to_string(seen->records) + " and " +
-                                      std::to_string(c.records) + " points): did it change while the tiles ran?");
             if (!seen) {
-                seen = c;
+                seen = TileInputCount{c.input, 0, 0};
                 for (const TileWarning& w : tiles[k].warnings)
                     if (w.input == c.input) warnings[c.input].push_back(w.text);
             }
+            seen->records += c.records, seen->outside += c.outside;
         }
     }
     for (std::size_t i = 0; i < per_input.size(); ++i) {
         if (survey.files[i].point_count == 0) continue;
         if (!per_input[i]) throw_input_error(plan.inputs[i].path, "no tile read it: the plan is damaged");
+        if (per_input[i]->records != plan.inputs[i].points)
+            throw_input_error(plan.inputs[i].path,
+                              "the tiles counted " + std::to_string(per_input[i]->records) + " of its " +
+                                  std::to_string(plan.inputs[i].points) +
+                                  " points: did it change while the tiles ran? Rerun every tile that reads it");
         grid.points_read += per_input[i]->records;
         grid.points_outside += per_input[i]->outside;
     }

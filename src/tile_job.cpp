@@ -2,9 +2,9 @@
 // run_tile: one tile of a plan. The survey's headers are read as one machine reads them (the
 // same CRS, frame and layout, so the same raw integers and cells), then only the inputs planned
 // for the tile are read, and only their points inside the tile go on to the device, into the
-// plan's grid. Each point read is checked on the host: one in the grid but in a tile that does
-// not read its file lies outside its file's header bounds, and would be lost: the job stops,
-// naming it.
+// plan's grid; of a COPC file, only the chunks (octree nodes) the plan lists for the tile are read.
+// Each point read is checked on the host: one in the grid but in a tile that does not read it lies
+// outside its file's header bounds (or its node's cube), and would be lost: the job stops, naming it.
 #include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
@@ -13,12 +13,14 @@
 #include "grid/tile_cells.hpp"
 #include "lasmesh/error.hpp"
 #include "number_text.hpp"
+#include "read/decode_ahead.hpp"
 
 #include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <numeric>
 
 namespace lasmesh {
 
@@ -49,6 +51,47 @@ struct TileLocator {
     }
 };
 
+// The tiles that read one chunk of an input (the whole file, unless it is a COPC file read in part).
+struct ChunkReaders {
+    std::uint64_t points = 0;         // in the chunk, as planned
+    std::uint64_t offset = 0;         // its first byte (a COPC chunk)
+    std::vector<std::uint32_t> tiles; // y * columns + x of each tile that reads it, ascending
+    bool owns_outside = false;        // this tile is the first to read it: it counts its points outside the grid
+    bool copc = false;
+};
+
+// For tile `index` reading `input`: its chunks in the order it reads them, and who else reads each.
+std::vector<ChunkReaders> chunk_readers(const TilePlan& plan, std::size_t index, std::size_t input,
+                                        std::uint32_t columns) {
+    const auto planned = [&](const PlannedTile& t) -> const PlannedChunks* {
+        for (const PlannedChunks& c : t.chunks)
+            if (c.input == input) return &c;
+        return nullptr;
+    };
+    std::vector<ChunkReaders> chunks;
+    std::vector<std::uint64_t> offsets; // of this tile's chunks
+    if (const PlannedChunks* mine = planned(plan.tiles[index])) {
+        offsets = mine->offsets;
+        for (std::size_t c = 0; c < offsets.size(); ++c)
+            chunks.push_back({mine->points[c], offsets[c], {}, false, true});
+    } else {
+        chunks.push_back({~std::uint64_t{0}, 0, {}, false, false});
+    }
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
+        const PlannedTile& t = plan.tiles[k];
+        if (!std::binary_search(t.inputs.begin(), t.inputs.end(), input)) continue;
+        const PlannedChunks* theirs = planned(t);
+        for (std::size_t c = 0; c < chunks.size(); ++c) {
+            // A tile that reads the file whole reads every chunk.
+            if (theirs && !std::binary_search(theirs->offsets.begin(), theirs->offsets.end(), offsets[c])) continue;
+            if (chunks[c].tiles.empty()) chunks[c].owns_outside = k == index;
+            chunks[c].tiles.push_back(t.y * columns + t.x);
+        }
+    }
+    for (ChunkReaders& c : chunks) std::sort(c.tiles.begin(), c.tiles.end());
+    return chunks;
+}
+
 } // namespace
 
 TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions& o, BuildObserver* observer) {
@@ -69,67 +112,80 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     SurveyStart opened = open_planned_survey(plan, planned_options(plan, o), r);
     const Survey& survey = opened.survey;
 
-    // Only the tile's inputs, in the survey's frame and layout.
+    // Only the tile's inputs (of a COPC input, only its planned chunks), in the survey's frame and layout.
     Survey part = survey;
     part.files.clear();
     part.header.point_count = 0;
     for (const std::size_t i : tile.inputs) {
         part.files.push_back(survey.files[i]);
-        part.header.point_count += survey.files[i].point_count;
+        std::uint64_t points = survey.files[i].point_count;
+        for (const PlannedChunks& c : tile.chunks)
+            if (c.input == i) {
+                points = std::accumulate(c.points.begin(), c.points.end(), std::uint64_t{0});
+                part.files.back().chunks = c.offsets, part.files.back().chunk_points = points;
+            }
+        part.header.point_count += points;
     }
     LasReader* single = plan.inputs.size() == 1 ? opened.single.get() : nullptr;
+    if (single && !part.files.front().chunks.empty()) read_only_chunks(*single, part.files.front());
 
     const TileLocator locate(plan, survey.header);
     const std::uint32_t columns = static_cast<std::uint32_t>(locate.tile_starts[0].size() - 1);
-    std::vector<std::uint32_t> planned_tiles; // y * columns + x of each tile that reads the file being read
-    std::size_t planned_for = ~std::size_t{0};
+    std::vector<ChunkReaders> readers; // of the file being read, its chunks in the order read
+    std::size_t readers_for = ~std::size_t{0}, chunk = 0;
+    std::uint64_t left_in_chunk = 0, points_read = 0;
     std::vector<TileInputCount> counts(tile.inputs.size());
     for (std::size_t i = 0; i < tile.inputs.size(); ++i) counts[i].input = tile.inputs[i];
     const std::size_t length = survey.header.point_record_length;
-    // Keeps the records in the tile (moved to the front), counts those outside the grid, passes
-    // over those of another tile that reads the file, and stops at any other.
+    // Each point is counted by one tile: the tile it lies in, or, outside the grid, the first tile
+    // that reads it. This one keeps the records in its tile (moved to the front), counts those it
+    // owns outside the grid, passes over those of another tile that reads them, and stops at any
+    // other (a point no tile would keep).
     const std::int64_t x0 = locate.axes[0].starts[tile.x_cells[0]], x1 = locate.axes[0].starts[tile.x_cells[1]];
     const std::int64_t y0 = locate.axes[1].starts[tile.y_cells[0]], y1 = locate.axes[1].starts[tile.y_cells[1]];
     const auto keep = [&](std::size_t file, std::byte* records, std::size_t count) {
         const std::size_t input = tile.inputs[file];
-        if (planned_for != input) {
-            planned_tiles.clear();
-            for (const PlannedTile& t : plan.tiles)
-                if (std::binary_search(t.inputs.begin(), t.inputs.end(), input))
-                    planned_tiles.push_back(t.y * columns + t.x);
-            std::sort(planned_tiles.begin(), planned_tiles.end());
-            planned_for = input;
+        if (readers_for != input) {
+            readers = chunk_readers(plan, index, input, columns);
+            readers_for = input, chunk = 0, left_in_chunk = readers.front().points;
         }
+        points_read += count;
         TileInputCount& c = counts[file];
         std::size_t kept = 0;
-        for (std::size_t i = 0; i < count; ++i, ++c.records) {
+        for (std::size_t i = 0; i < count; ++i) {
+            while (left_in_chunk == 0 && chunk + 1 < readers.size()) left_in_chunk = readers[++chunk].points;
+            left_in_chunk -= 1;
+            const ChunkReaders& r = readers[chunk];
             std::byte* at = records + i * length;
             const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
                                                   load_le<std::int32_t>(at + 8)};
             if (!locate.inside(raw)) {
-                ++c.outside;
+                if (r.owns_outside) ++c.records, ++c.outside;
                 continue;
             }
             if (raw[0] >= x0 && raw[0] < x1 && raw[1] >= y0 && raw[1] < y1) {
                 if (kept != i) std::memmove(records + kept * length, at, length);
-                ++kept;
+                ++kept, ++c.records;
                 continue;
             }
             const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
-            if (std::binary_search(planned_tiles.begin(), planned_tiles.end(), ty * columns + tx)) continue;
+            if (std::binary_search(r.tiles.begin(), r.tiles.end(), ty * columns + tx)) continue;
             const SurveyFile& f = survey.files[input];
             const LasHeader& h = survey.header;
-            throw_input_error(
-                f.path,
-                "point record " + std::to_string(c.records) + " lies at x " +
-                    shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
-                    shortest(double(raw[1]) * h.scale[1] + h.offset[1]) + ", outside the file's header bounds (x " +
-                    shortest(f.min[0]) + " to " + shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " +
-                    shortest(f.max[1]) +
-                    "), in a tile that does not read this file, so its points would be lost: correct the "
-                    "header's bounds (a scan of its points gives the true ones) and plan again, or mesh on "
-                    "one machine reading the points for their bounds",
-                "scan_bounds");
+            const std::uint64_t record = r.points - left_in_chunk - 1; // in the file, or in its chunk
+            const std::string where = "x " + shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
+                                      shortest(double(raw[1]) * h.scale[1] + h.offset[1]) +
+                                      ", outside the file's header bounds (x " + shortest(f.min[0]) + " to " +
+                                      shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " + shortest(f.max[1]) +
+                                      ")" + (r.copc ? " or its COPC node's cube" : "");
+            throw_input_error(f.path,
+                              "point record " + std::to_string(record) +
+                                  (r.copc ? " of its COPC chunk at byte " + std::to_string(r.offset) : std::string()) +
+                                  " lies at " + where +
+                                  ", in a tile that does not read it, so its points would be lost: correct the "
+                                  "header's bounds (a scan of its points gives the true ones) and plan again, or "
+                                  "mesh on one machine reading the points for their bounds",
+                              "scan_bounds");
         }
         return kept;
     };
@@ -179,7 +235,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     report.path = tile_path(plan, index);
     report.bytes = write_tile_cells(cells, report.path);
     report.inputs_read = tile.inputs.size();
-    for (const TileInputCount& c : counts) report.points_read += c.records;
+    report.points_read = points_read;
     report.occupied_cells = cells.cells.size();
     report.seconds = seconds_since(start);
     report.peak_rss_bytes = peak_rss_bytes();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // plan_tiles and the plan's file: the grid fixed from the headers, cut into square tiles of whole
-// bricks in x and y, each listing the inputs whose header bounds (in the survey's CRS) touch it.
+// bricks in x and y, each listing the inputs whose header bounds (in the survey's CRS) touch it,
+// and of a COPC input the octree nodes whose cubes do.
 #include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
@@ -8,6 +9,9 @@
 #include "io/json.hpp"
 #include "io/output_file.hpp"
 #include "lasmesh/error.hpp"
+#include "read/copc.hpp"
+#include "read/input_stream.hpp"
+#include "read/las_header.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -51,6 +55,17 @@ std::pair<std::uint32_t, std::uint32_t> cell_range(double low, double high, doub
         return static_cast<std::uint32_t>(std::clamp(c, 0.0, static_cast<double>(cells - 1)));
     };
     return {clamp(std::floor((low - origin) / cell - margin)), clamp(std::floor((high - origin) / cell + margin))};
+}
+
+// A COPC file's nodes, when the file is one a tile can read in part: LAZ by path, in the
+// survey's CRS (a node's cube is in the file's coordinates); nullopt otherwise.
+std::optional<std::vector<CopcNode>> copc_nodes(const SurveyFile& file) {
+    if (!file.compressed || file.transform) return std::nullopt;
+    InputStream stream(file.path);
+    if (stream.compression() != Compression::none) return std::nullopt;
+    const LasHeader header = read_las_header(stream);
+    if (!header.compressed) return std::nullopt;
+    return read_copc_nodes(file.path, header);
 }
 
 } // namespace
@@ -102,20 +117,45 @@ TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& 
     plan.tile_size = double(cells) * grid.cell_size;
 
     std::map<std::pair<std::uint32_t, std::uint32_t>, PlannedTile> tiles; // by (y, x)
+    // The tiles a box of the survey touches (clamped to the grid: each point has a tile to read it).
+    const auto for_tiles = [&](const Vec3& min, const Vec3& max, const auto& visit) {
+        const auto [x0, x1] = cell_range(min[0], max[0], grid.origin[0], grid.cell_size, grid.dims[0]);
+        const auto [y0, y1] = cell_range(min[1], max[1], grid.origin[1], grid.cell_size, grid.dims[1]);
+        for (std::uint32_t ty = y0 / plan.tile_cells; ty <= y1 / plan.tile_cells; ++ty)
+            for (std::uint32_t tx = x0 / plan.tile_cells; tx <= x1 / plan.tile_cells; ++tx) {
+                PlannedTile& tile = tiles[{ty, tx}];
+                tile.x = tx, tile.y = ty;
+                visit(tile);
+            }
+    };
     for (std::size_t i = 0; i < survey.files.size(); ++i) {
         const SurveyFile& file = survey.files[i];
         plan.inputs.push_back(
             {std::filesystem::absolute(file.path).lexically_normal().string(), file.bytes, file.point_count});
         if (file.point_count == 0) continue;
-        const auto [x0, x1] = cell_range(file.min[0], file.max[0], grid.origin[0], grid.cell_size, grid.dims[0]);
-        const auto [y0, y1] = cell_range(file.min[1], file.max[1], grid.origin[1], grid.cell_size, grid.dims[1]);
-        for (std::uint32_t ty = y0 / plan.tile_cells; ty <= y1 / plan.tile_cells; ++ty)
-            for (std::uint32_t tx = x0 / plan.tile_cells; tx <= x1 / plan.tile_cells; ++tx) {
-                PlannedTile& tile = tiles[{ty, tx}];
-                tile.x = tx, tile.y = ty;
-                tile.inputs.push_back(i);
-                tile.points += file.point_count;
+        // A COPC file in the survey's CRS: by its nodes, each a chunk of points within a cube.
+        if (const auto nodes = copc_nodes(file)) {
+            for (const CopcNode& node : *nodes) {
+                Vec3 min = node.cube.min, max = node.cube.max;
+                for (int a = 0; a < 2; ++a) // within the header's bounds, unless they miss the node
+                    if (file.min[a] <= max[a] && min[a] <= file.max[a])
+                        min[a] = std::max(min[a], file.min[a]), max[a] = std::min(max[a], file.max[a]);
+                for_tiles(min, max, [&](PlannedTile& tile) {
+                    if (tile.inputs.empty() || tile.inputs.back() != i) {
+                        tile.inputs.push_back(i);
+                        tile.chunks.push_back({i, {}, {}});
+                    }
+                    tile.chunks.back().offsets.push_back(node.offset);
+                    tile.chunks.back().points.push_back(node.points);
+                    tile.points += node.points;
+                });
             }
+            continue;
+        }
+        for_tiles(file.min, file.max, [&](PlannedTile& tile) {
+            tile.inputs.push_back(i);
+            tile.points += file.point_count;
+        });
     }
     for (auto& [key, tile] : tiles) {
         tile.x_cells = {tile.x * plan.tile_cells, std::min(grid.dims[0], (tile.x + 1) * plan.tile_cells)};
@@ -144,12 +184,16 @@ Json plan_json(const TilePlan& plan) {
     Json tiles = Json::array();
     for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
         const PlannedTile& t = plan.tiles[k];
-        tiles.push_back({{"index", k},
-                         {"x", t.x},
-                         {"y", t.y},
-                         {"cells", {t.x_cells[0], t.x_cells[1], t.y_cells[0], t.y_cells[1]}},
-                         {"inputs", t.inputs},
-                         {"points", t.points}});
+        Json tile{{"index", k},         {"x", t.x},
+                  {"y", t.y},           {"cells", {t.x_cells[0], t.x_cells[1], t.y_cells[0], t.y_cells[1]}},
+                  {"inputs", t.inputs}, {"points", t.points}};
+        if (!t.chunks.empty()) {
+            Json chunks = Json::array();
+            for (const PlannedChunks& c : t.chunks)
+                chunks.push_back({{"input", c.input}, {"offsets", c.offsets}, {"points", c.points}});
+            tile["copc_chunks"] = std::move(chunks);
+        }
+        tiles.push_back(std::move(tile));
     }
     json["tiles"] = std::move(tiles);
     return json;
@@ -206,6 +250,19 @@ TilePlan read_plan(const std::string& path) {
             tile.x_cells = {c[0], c[1]}, tile.y_cells = {c[2], c[3]};
             tile.inputs = t.at("inputs").get<std::vector<std::size_t>>();
             tile.points = t.at("points").get<std::uint64_t>();
+            if (t.contains("copc_chunks"))
+                for (const auto& c : t.at("copc_chunks")) {
+                    PlannedChunks chunks{c.at("input").get<std::size_t>(),
+                                         c.at("offsets").get<std::vector<std::uint64_t>>(),
+                                         c.at("points").get<std::vector<std::uint64_t>>()};
+                    if (!std::binary_search(tile.inputs.begin(), tile.inputs.end(), chunks.input) ||
+                        chunks.offsets.empty() || chunks.offsets.size() != chunks.points.size() ||
+                        !std::is_sorted(chunks.offsets.begin(), chunks.offsets.end()))
+                        throw_input_error(path, "tile " + std::to_string(plan.tiles.size()) +
+                                                    "'s COPC chunks of input " + std::to_string(chunks.input) +
+                                                    " are not a list of its inputs' chunks");
+                    tile.chunks.push_back(std::move(chunks));
+                }
             for (const std::size_t i : tile.inputs)
                 if (i >= plan.inputs.size())
                     throw_input_error(path, "a tile names input " + std::to_string(i) + " of " +

@@ -115,6 +115,13 @@ TEST_CASE("plan_tiles, run_tile and merge_tiles: the outputs of build_mesh, byte
     const BuildResult result = merge_tiles(read, merged);
     CHECK(result.report.points_read == 80000);
     CHECK(test::read_file(dir.file("merged.ply")) == test::read_file(dir.file("one.ply")));
+    // A tile that counts points another tile counted (a whole, valid file): merge refuses.
+    TileCells counted_twice = read_tile_cells(tile_path(read, 1));
+    counted_twice.inputs.front().records += 5;
+    write_tile_cells(counted_twice, tile_path(read, 1));
+    merged.outputs = {request(dir.file("twice.ply"))};
+    CHECK(contains(error_text([&] { merge_tiles(read, merged); }), "the tiles counted 80005 of its 80000 points"));
+    CHECK(!std::filesystem::exists(dir.file("twice.ply")));
     CHECK(contains(error_text([&] { run_tile(read, read.tiles.size(), options); }), "its tiles are 0 to"));
     BuildOptions scanned = options;
     scanned.scan_bounds = true;

@@ -208,7 +208,8 @@ std::string run_report_json(const RunReport& report);
 // ---- Over many machines -------------------------------------------------------------------
 // A survey too large for one machine's time, read on many: a plan fixes the grid from the
 // inputs' headers and cuts it into tiles; each tile job (one task of a Slurm array or a
-// Kubernetes Indexed Job) reads only the inputs that touch its tile and writes the exact sums of
+// Kubernetes Indexed Job) reads only the inputs that touch its tile (of a COPC file, only the
+// octree nodes that do) and writes the exact sums of
 // its tile's cells; merge adds them into the grid one machine would have accumulated and
 // meshes it: every output is byte for byte the one build_mesh writes from the same inputs.
 //
@@ -230,12 +231,21 @@ struct PlannedInput {
     std::uint64_t points = 0; // refuses an input that has changed since
 };
 
+// Of a COPC input (a LAZ file whose chunks are the nodes of an octree), the chunks a tile reads:
+// those whose node's cube, within the file's header bounds, touches the tile.
+struct PlannedChunks {
+    std::size_t input = 0;
+    std::vector<std::uint64_t> offsets; // each chunk's first byte, ascending
+    std::vector<std::uint64_t> points;  // each chunk's point count
+};
+
 // A tile: the grid's cells [x_cells[0], x_cells[1]) x [y_cells[0], y_cells[1]), all of z.
 struct PlannedTile {
     std::uint32_t x = 0, y = 0; // its place in the tiling
     std::array<std::uint32_t, 2> x_cells{}, y_cells{};
-    std::vector<std::size_t> inputs; // indices into TilePlan::inputs: those whose header bounds touch it
-    std::uint64_t points = 0;        // the points those inputs' headers promise (they may hold more)
+    std::vector<std::size_t> inputs;   // indices into TilePlan::inputs: those whose header bounds touch it
+    std::vector<PlannedChunks> chunks; // of those, the COPC inputs read in part (others are read whole)
+    std::uint64_t points = 0;          // the points those inputs' headers (or COPC nodes) promise
 };
 
 struct TilePlan {
@@ -252,11 +262,10 @@ struct TilePlan {
     std::vector<PlannedTile> tiles; // those that touch an input, by y then x
 };
 
-// Reads the inputs' headers only and fixes the grid and the tiles. `tile_size` in the CRS's unit
-// (rounded up to whole bricks of 4 cells); 0: about 20 million promised points a tile. Only the
-// read options of `options` count (grid, bounds, crs); scan_bounds and skip_bad_inputs are
-// refused (Error usage): a tile job must read exactly the files planned. Throws Error (input)
-// naming an input that cannot be read.
+// Reads the inputs' headers only (and COPC files' hierarchies) and fixes the grid and the tiles. `tile_size` in the
+// CRS's unit (rounded up to whole bricks of 4 cells); 0: about 20 million promised points a tile. Only the read options
+// of `options` count (grid, bounds, crs); scan_bounds and skip_bad_inputs are refused (Error usage): a tile job must
+// read exactly the files planned. Throws Error (input) naming an input that cannot be read.
 TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& options, double tile_size);
 
 // The plan as JSON in `path` (atomically), and read back; read_plan throws Error (input) naming

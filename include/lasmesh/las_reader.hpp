@@ -27,13 +27,13 @@ class LazDecoder;
 }
 
 // A variable length record as listed in the header area; its payload is read past, not kept
-// (except the LASzip VLR's, which the LAZ decoder needs).
+// (except the LASzip VLR's, which the LAZ decoder needs, the coordinate system's and COPC's info).
 struct Vlr {
     std::string user_id; // up to 16 characters, trailing NULs removed
     std::uint16_t record_id = 0;
     std::uint16_t length = 0;    // payload bytes after the 54-byte VLR header (an EVLR's: at most 65535)
     std::string description;     // up to 32 characters, trailing NULs removed
-    std::vector<std::byte> data; // the payload, kept for the LASzip and the coordinate system's VLRs
+    std::vector<std::byte> data; // the payload, kept for the LASzip, coordinate system and COPC info VLRs
 };
 
 struct LasHeader {
@@ -83,6 +83,12 @@ class LasReader {
     // records read and expected when the input ends early, or when a compressed stream fails its
     // end-of-stream check (read through to the end after the last record).
     std::size_t read_records(std::span<std::byte> dst);
+
+    // LAZ from a file: read only the chunks that start at `offsets` (ascending; a COPC file's
+    // octree nodes that meet a region), seeking past the rest. Before the first read; the
+    // header's point count becomes theirs. Throws Error (input) for an offset where no chunk
+    // starts, or for input that is not LAZ read from a file.
+    void read_only_chunks(const std::vector<std::uint64_t>& offsets);
 
     // Bytes after the last promised record, known once it is read: records the header does not
     // count (a wrong point count) or junk. Never meshed; the caller warns.

@@ -9,12 +9,14 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <set>
 
 namespace lasmesh::cli {
 
 CLI::App* add_plan_command(CLI::App& app, PlanOptions& o) {
     CLI::App* plan = app.add_subcommand(
-        "plan", "Plan a survey's meshing over many machines: read the inputs' headers, fix the grid, cut it into "
+        "plan", "Plan a survey's meshing over many machines: read the inputs' headers (and COPC files' "
+                "hierarchies), fix the grid, cut it into "
                 "tiles, and say how to run them (lasmesh tile) and join them (lasmesh merge)");
     plan->footer("Examples:\n"
                  "  lasmesh plan scans/*.laz --tile 250 -o site.plan.json\n"
@@ -41,7 +43,8 @@ CLI::App* add_plan_command(CLI::App& app, PlanOptions& o) {
 
 CLI::App* add_tile_command(CLI::App& app, TileOptions& o) {
     CLI::App* tile = app.add_subcommand(
-        "tile", "Read the inputs of one tile of a plan and write its cells' sums (a task of an array job)");
+        "tile", "Read the inputs of one tile of a plan (of a COPC file, only the octree nodes that touch it) and "
+                "write its cells' sums (a task of an array job)");
     tile->footer("Examples:\n"
                  "  lasmesh tile site.plan.json --index 3\n"
                  "  lasmesh tile site.plan.json        in a Slurm array task or a Kubernetes Indexed Job");
@@ -69,6 +72,28 @@ CLI::App* add_merge_command(CLI::App& app, MergeOptions& o) {
     return merge;
 }
 
+namespace {
+
+// "2 COPC inputs: the tiles read only the octree nodes that touch them, 1.31x their points in all\n",
+// or "" when no input is read by its nodes.
+std::string copc_line(const TilePlan& plan) {
+    std::set<std::size_t> inputs;
+    std::uint64_t planned = 0, points = 0;
+    for (const PlannedTile& tile : plan.tiles)
+        for (const PlannedChunks& c : tile.chunks) {
+            inputs.insert(c.input);
+            for (const std::uint64_t n : c.points) planned += n;
+        }
+    if (inputs.empty()) return "";
+    for (const std::size_t i : inputs) points += plan.inputs[i].points;
+    return std::to_string(inputs.size()) + (inputs.size() == 1 ? " COPC input" : " COPC inputs") +
+           ": the tiles read only the octree nodes that touch them, " +
+           two_digits(points ? double(planned) / double(points) : 0.0) + "x " + (inputs.size() == 1 ? "its" : "their") +
+           " points in all\n";
+}
+
+} // namespace
+
 void run_plan(const PlanOptions& o, std::ostream& out) {
     BuildOptions options;
     const AccumulateOptions accumulate = accumulate_options(o.survey.grid);
@@ -85,7 +110,7 @@ void run_plan(const PlanOptions& o, std::ostream& out) {
     out << name << ": " << plan.tiles.size() << " tiles of " << four_digits(plan.tile_size) << " x "
         << four_digits(plan.tile_size) << unit << " (" << plan.tile_cells << " x " << plan.tile_cells << " cells of "
         << four_digits(plan.grid.cell_size) << "), " << points << " points in " << plan.inputs.size() << " inputs\n"
-        << "run every tile, K from 0 to " << last << ", on a cluster or here:\n"
+        << copc_line(plan) << "run every tile, K from 0 to " << last << ", on a cluster or here:\n"
         << "  sbatch --array=0-" << last << " lasmesh-tile.sbatch " << name << "\n"
         << "  seq 0 " << last << " | xargs -P 4 -I K lasmesh tile " << name << " --index K\n"
         << "then join them:\n"

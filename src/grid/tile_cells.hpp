@@ -22,7 +22,7 @@ namespace lasmesh {
 
 struct TileInputCount {
     std::uint64_t input = 0;   // index in the plan's inputs
-    std::uint64_t records = 0; // records read
+    std::uint64_t records = 0; // records it counts: those in its tile, and outside the grid those it read first
     std::uint64_t outside = 0; // of those, outside the grid
 };
 

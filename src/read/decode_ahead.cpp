@@ -9,6 +9,15 @@
 
 namespace lasmesh {
 
+void read_only_chunks(LasReader& reader, const SurveyFile& file) {
+    reader.read_only_chunks(file.chunks);
+    if (reader.header().point_count != file.chunk_points)
+        throw_input_error(reader.stream().name(),
+                          "its " + std::to_string(file.chunks.size()) + " LAZ chunks to read hold " +
+                              std::to_string(reader.header().point_count) + " points, not the " +
+                              std::to_string(file.chunk_points) + " its COPC hierarchy gave when planned: plan again");
+}
+
 std::unique_ptr<LasReader> reopen(const SurveyFile& file) {
     auto reader = std::make_unique<LasReader>(file.path);
     const LasHeader& h = reader->header();
@@ -16,6 +25,7 @@ std::unique_ptr<LasReader> reopen(const SurveyFile& file) {
         h.offset != file.record_offset)
         throw_input_error(reader->stream().name(), "its header changed between the first look at it and its "
                                                    "points being read (is it being written?)");
+    if (!file.chunks.empty()) read_only_chunks(*reader, file);
     return reader;
 }
 
@@ -44,7 +54,7 @@ std::vector<DecodedFile> decode_batch(const std::vector<SurveyFile>& files, std:
         if (file.point_count == 0) return;
         try {
             const std::unique_ptr<LasReader> reader = reopen(file);
-            decoded[i].records.resize(file.point_count * file.record_length);
+            decoded[i].records.resize(reader->header().point_count * file.record_length);
             reader->read_records(decoded[i].records); // the whole file: LasReader throws when it holds fewer
             decoded[i].warning = trailing_warning(*reader);
         } catch (...) {

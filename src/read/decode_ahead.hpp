@@ -32,9 +32,11 @@ struct DecodedFile {
     std::exception_ptr error;       // why it could not be read: thrown when its turn comes
 };
 
-// `file` opened again for its points; throws Error (input) when its header is no longer the one
-// read_survey saw.
+// `file` opened again for its points (only its `chunks`, when it lists some); throws Error (input)
+// when its header is no longer the one read_survey saw.
 std::unique_ptr<LasReader> reopen(const SurveyFile& file);
+// `reader` set to read only `file`'s chunks; throws Error (input) when they do not hold its chunk_points.
+void read_only_chunks(LasReader& reader, const SurveyFile& file);
 
 // How many files from files[first] on one batch takes: the run of small compressed files (files
 // without points included) that fits batch_bytes. Below 2 the next file is read on its own.

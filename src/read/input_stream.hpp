@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A forward-only byte stream over a file or standard input, decompressed on the fly when its
-// first bytes carry a gzip, bzip2, xz or zstd signature. It never seeks, so pipes work as well as
-// files; plain input is read with large read(2) calls straight into the caller's buffer.
+// first bytes carry a gzip, bzip2, xz or zstd signature. It never seeks backwards, so pipes work as
+// well as files; plain input is read with large read(2) calls straight into the caller's buffer.
 #pragma once
 
 #include <cstddef>
@@ -33,7 +33,8 @@ class InputStream {
     // Throws Error (input) on a read error or a corrupt compressed stream.
     std::size_t read(std::byte* dst, std::size_t size);
 
-    // Reads and discards `size` bytes; returns how many there were before the end.
+    // Reads and discards `size` bytes (seeks past them in a regular uncompressed file); returns how
+    // many there were before the end.
     std::uint64_t skip(std::uint64_t size);
     // Reads to the end and returns how many bytes there were. For compressed input this runs the
     // decoder to its end, so its end-of-stream checks (gzip CRC and length, ...) are made: a

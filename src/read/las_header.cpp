@@ -218,7 +218,9 @@ LasHeader read_las_header(InputStream& in) {
         // The coordinate system (read_crs): the WKT and the GeoTIFF keys, doubles and text.
         const bool projection = vlr.user_id == "LASF_Projection" &&
                                 (vlr.record_id == 2112 || (vlr.record_id >= 34735 && vlr.record_id <= 34737));
-        if (laszip || projection) {
+        // COPC's info record: where its octree's hierarchy is (read/copc.hpp).
+        const bool copc = vlr.user_id == "copc" && vlr.record_id == 1;
+        if (laszip || projection || copc) {
             vlr.data.resize(vlr.length);
             if (in.read(vlr.data.data(), vlr.length) < vlr.length)
                 throw_input_error(in.name(),

@@ -39,6 +39,12 @@ std::string LasReader::laz_beyond_header() const {
     return laz_ ? laz_->beyond_header() : std::string();
 }
 
+void LasReader::read_only_chunks(const std::vector<std::uint64_t>& offsets) {
+    if (!laz_ || records_read_ > 0)
+        throw_input_error(stream_->name(), "only LAZ read from its start can be read a few chunks at a time");
+    header_.point_count = laz_->read_only_chunks(offsets);
+}
+
 std::size_t LasReader::read_records(std::span<std::byte> dst) {
     const std::size_t length = header_.point_record_length;
     const std::uint64_t wanted = std::min<std::uint64_t>(dst.size() / length, records_left());

@@ -103,6 +103,25 @@ LazDecoder::LazDecoder(InputStream& stream, const LasHeader& header, const std::
     have_table_ = true;
 }
 
+std::uint64_t LazDecoder::read_only_chunks(const std::vector<std::uint64_t>& offsets) {
+    if (!have_table_ || chunks_started_ > 0)
+        throw_input_error(source_, "only a LAZ file read by path, from its start, can be read a few chunks at a time");
+    wanted_.assign(table_.size(), 0);
+    point_count_ = 0;
+    for (const std::uint64_t offset : offsets) {
+        const auto at = std::lower_bound(table_.begin(), table_.end(), offset,
+                                         [](const Chunk& c, std::uint64_t o) { return c.offset < o; });
+        if (at == table_.end() || at->offset != offset)
+            throw_input_error(source_, "no LAZ chunk starts at byte " + std::to_string(offset) +
+                                           " (a COPC node's chunk, by its hierarchy): the file is damaged, or changed "
+                                           "since it was planned");
+        char& want = wanted_[static_cast<std::size_t>(at - table_.begin())];
+        if (!want) point_count_ += at->points;
+        want = 1;
+    }
+    return point_count_;
+}
+
 void LazDecoder::read_exactly(std::byte* dst, std::size_t size, std::uint64_t chunk_index, const char* what) {
     const std::uint64_t at = stream_.position();
     const std::size_t got = stream_.read(dst, size);
@@ -124,6 +143,7 @@ bool LazDecoder::next_chunk_bytes(Pending& p) {
     if (points_started_ >= point_count_) return false;
     p.index = chunks_started_;
     if (have_table_) {
+        while (!wanted_.empty() && chunks_started_ < table_.size() && !wanted_[chunks_started_]) ++chunks_started_;
         if (chunks_started_ >= table_.size()) return false;
         p.chunk = table_[chunks_started_];
         const std::uint64_t gap = p.chunk.offset - std::min(p.chunk.offset, stream_.position());

@@ -32,6 +32,12 @@ class LazDecoder {
     // Copies up to `records` decoded records to `dst`; returns how many (0 once all are out).
     std::size_t read(std::byte* dst, std::size_t records);
 
+    // Reads and decodes only the chunks that start at `offsets` (ascending; a COPC file's nodes
+    // that meet a region, read/copc.hpp), skipping the bytes between them; returns their point
+    // count. Before the first read, from a file (it needs the chunk table). Throws Error (input)
+    // naming the offset that starts no chunk.
+    std::uint64_t read_only_chunks(const std::vector<std::uint64_t>& offsets);
+
     const Format& format() const { return format_; }
     // What the chunk table holds past the header's point count ("1 more chunk", "10000 more
     // points"), never decoded; empty when nothing (or when there is no table: a pipe).
@@ -59,6 +65,7 @@ class LazDecoder {
     // Each thread's symbol models, reused from chunk to chunk (ModelStore).
     tbb::enumerable_thread_specific<ModelStore> stores_;
     std::vector<Chunk> table_; // empty when decoding without the table
+    std::vector<char> wanted_; // per chunk of the table: read it; empty: all are
     bool have_table_ = false;
     std::string beyond_header_;
     std::vector<std::byte> carry_; // pipe, pointwise: bytes read past the last chunk's end

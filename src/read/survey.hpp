@@ -45,6 +45,10 @@ struct SurveyFile {
     std::shared_ptr<const CrsTransform> transform; // from the file's CRS to the survey's; null: none
     std::uint64_t bytes = 0; // the file's size (compressed size for a compressed stream), for progress
     bool compressed = false; // LAZ, or a gzip/bzip2/xz/zstd stream: reading it is CPU work
+    // Read only the LAZ chunks that start at these offsets (a tile's COPC nodes), which hold
+    // chunk_points points; empty: all.
+    std::vector<std::uint64_t> chunks;
+    std::uint64_t chunk_points = 0;
 };
 
 // An input left out (with skip_bad), and why: the error it gave.

@@ -4,7 +4,8 @@
 # those of one run over the same inputs (a tileset, a PLY, a GLB), for the automatic grid and a
 # cell edge; a missing, damaged or foreign tile is named by merge, which writes nothing; a rerun
 # tile replaces its file; a file whose header bounds lie (its points would be lost) stops its tile;
-# an input changed since the plan is refused; the tile index comes from --index or the scheduler.
+# an input changed since the plan is refused; the tile index comes from --index or the scheduler;
+# a COPC file's tiles read only the octree nodes that touch them, cropped or not.
 # Usage: tiles_test.sh LASMESH LASGEN
 set -u
 lasmesh=$1 lasgen=$2 here=$(dirname "$0")
@@ -117,4 +118,40 @@ mv saved.las deck-0_0.las
 check "plan of standard input: usage error" test "$rc" -eq 1
 "$lasmesh" plan "${inputs[@]}" --scan-bounds -o scan.json > scan.txt 2>&1; rc=$?
 check "plan has no --scan-bounds (it reads headers only): usage error" test "$rc" -eq 1
+# A COPC file (laspy's simple.copc.laz: 1065 points in an octree of 65 chunks): each tile reads
+# only the nodes that touch it, and the merged mesh is one run's.
+copc=$here/../data/laz/laspy_simple.copc.laz
+"$lasmesh" "$copc" --grid 48 -o copc-one.ply -q
+"$lasmesh" plan "$copc" --grid 48 --tile 1200 -o copc.json > copc-plan.txt; rc=$?
+check "plan of a COPC file: exit 0" test "$rc" -eq 0
+check "plan: says the tiles read its octree nodes" has copc-plan.txt "1 COPC input: the tiles read only the octree nodes that touch them"
+check "plan: every tile lists some of its 65 chunks, every chunk some tile" python3 -c '
+import json; p = json.load(open("copc.json")); seen = set()
+assert len(p["tiles"]) >= 4, len(p["tiles"])
+for t in p["tiles"]:
+    c, = t["copc_chunks"]
+    assert 0 < len(c["offsets"]) < 65 and sum(c["points"]) == t["points"], c
+    seen.update(c["offsets"])
+assert len(seen) == 65, len(seen)'
+copc_tiles=$(python3 -c 'import json; print(len(json.load(open("copc.json"))["tiles"]))')
+for k in $(seq 0 $((copc_tiles - 1))); do "$lasmesh" tile copc.json --index "$k" >> copc-tiles.txt 2>&1; done
+check "tiles: each reads fewer than half the file's points" python3 -c '
+import re; read = [int(n) for n in re.findall(r": (\d+) points read", open("copc-tiles.txt").read())]
+assert len(read) == '"$copc_tiles"' and max(read) < 1065 / 2, read'
+"$lasmesh" merge copc.json -o copc-many.ply -q; rc=$?
+check "merge: exit 0" test "$rc" -eq 0
+check "merged PLY = one run's PLY" cmp -s copc-one.ply copc-many.ply
+# Cropped to the west half: nodes outside the grid are still read (by the tile nearest them), and
+# each point outside is counted once, by the first tile that reads it.
+crop=(--bounds 635000,848000,0,637300,854000,1000 --grid 48)
+"$lasmesh" "$copc" "${crop[@]}" -o crop-one.ply > crop-one.txt 2>&1
+"$lasmesh" plan "$copc" "${crop[@]}" --tile 1200 -o crop.json > /dev/null
+for k in $(seq 0 $(($(python3 -c 'import json; print(len(json.load(open("crop.json"))["tiles"]))') - 1))); do
+  "$lasmesh" tile crop.json --index "$k" -q
+done
+"$lasmesh" merge crop.json -o crop-many.ply > crop-many.txt 2>&1
+check "cropped: some points outside the grid" contains crop-one.txt "^points  *1065 read, [1-9][0-9]* outside the grid"
+check "cropped: merge counts the same points inside and outside" test "$(grep '^points ' crop-one.txt)" = "$(grep '^points ' crop-many.txt)"
+check "cropped: the same PLY" cmp -s crop-one.ply crop-many.ply
+
 finish tiles
