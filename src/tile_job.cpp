@@ -26,6 +26,10 @@ namespace lasmesh {
 
 namespace {
 
+// A tile job's default upload slice: on the 181M deck in 8 tiles, 114-130 MB a job against
+// 142-158 MB with the main job's 16 MiB, in no more time (docs/benchmarks.md).
+constexpr std::uint64_t tile_slice_bytes = std::uint64_t{2} << 20;
+
 // Where a raw position lies: outside the grid, or in a column and row of the tiling.
 struct TileLocator {
     std::array<AxisCells, 3> axes;
@@ -193,6 +197,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     ComputeDevice device(o.device);
     AccumulateOptions accumulate = opened.accumulate;
     accumulate.spec = plan.grid;
+    if (o.slice_bytes == 0) accumulate.slice_bytes = tile_slice_bytes;
     accumulate.memory_in_use = resident_bytes();
     SurveyReader reader(part, single);
     reader.on_records(keep);

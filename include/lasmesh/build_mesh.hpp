@@ -289,9 +289,10 @@ struct TileReport {
 };
 
 // Reads the inputs of tile `index` and writes its cells' sums. Of `options`, the device, slice
-// and memory fields count. Throws Error (usage) for an index past the plan's tiles, (input) for
-// an input changed since the plan, or holding a point outside its header's bounds in a tile that
-// does not read it (its points would be lost: the message names the file, the record and the tile).
+// and memory fields count; slice_bytes 0 is 2 MiB here, not 16 (a tile job holds a small share of
+// the grid, so its upload slices are most of its memory above the OpenCL runtime's). Throws Error (usage) for an index
+// past the plan's tiles, (input) for an input changed since the plan, or holding a point outside its header's bounds in
+// a tile that does not read it (its points would be lost: the message names the file, the record and the tile).
 TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions& options,
                     BuildObserver* observer = nullptr);
 

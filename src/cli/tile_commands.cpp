@@ -53,6 +53,9 @@ CLI::App* add_tile_command(CLI::App& app, TileOptions& o) {
                      "The tile, from 0; default: SLURM_ARRAY_TASK_ID, else JOB_COMPLETION_INDEX (Kubernetes)")
         ->type_name("K");
     add_device_options(*tile, o.device);
+    tile->get_option("--chunk-mb")
+        ->description("Largest slice of records uploaded at once, MiB (default 2 for a tile job: its share of "
+                      "the grid is small, so the slices are most of its memory)");
     tile->add_option("--threads", o.threads, "Threads for LAZ decoding, 1 to 1024 (default: all cores)")
         ->type_name("N")
         ->check(whole_number(1, 1024));
