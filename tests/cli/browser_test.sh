@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Tilesets in real viewers: CesiumJS and three.js with 3DTilesRendererJS, in headless Chromium
 # (tests/browser/viewers.js), plain and Draco tiles. Each viewer loads the tileset without an
-# error, draws it, asks for the root first and every tile after its parent, and reaches the finest
+# error, draws it, asks for the root first and for every tile's parent, and reaches the finest
 # level; CesiumJS puts the root where the transform says, and near the data's centre.
 # LASMESH_SCREENSHOTS=FOLDER keeps a picture per viewer (docs/img/tileset_*.png come from here).
 # Skipped (77) where Chromium or the browser packages are not installed (tools/test.sh installs
