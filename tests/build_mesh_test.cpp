@@ -30,9 +30,7 @@ Error error_of(const std::string& input, const BuildOptions& options) {
     return Error(ErrorKind::usage, "");
 }
 
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using test::contains;
 
 OutputRequest request(const std::string& path, std::optional<MeshFormat> format = std::nullopt) {
     OutputRequest output;

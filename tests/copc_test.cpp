@@ -38,19 +38,8 @@ std::vector<std::byte> all_records(LasReader& reader) {
     return records;
 }
 
-std::string copc_error(const std::function<void()>& call) {
-    try {
-        call();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    FAIL("no error");
-    return "";
-}
-
-bool has_text(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using test::contains;
+using test::error_text;
 
 // The byte where the COPC info VLR's payload starts (its first VLR, as the specification wants).
 std::size_t info_payload(const test::Bytes& file) {
@@ -141,16 +130,16 @@ TEST_CASE("a COPC file read a few chunks at a time: their records in file order,
     CHECK(all_records(part) == expected);
 
     LasReader wrong(path);
-    CHECK(has_text(copc_error([&] { wrong.read_only_chunks({(*nodes)[0].offset + 1}); }),
+    CHECK(contains(error_text([&] { wrong.read_only_chunks({(*nodes)[0].offset + 1}); }),
                    "no LAZ chunk starts at byte " + std::to_string((*nodes)[0].offset + 1)));
     LasReader started(path);
     std::vector<std::byte> one(length);
     started.read_records(one);
-    CHECK(has_text(copc_error([&] { started.read_only_chunks(offsets); }), "read from its start"));
+    CHECK(contains(error_text([&] { started.read_only_chunks(offsets); }), "read from its start"));
     test::TempDir dir;
     test::write_file(dir.file("p.las"), test::las_with_points({{{1, 2, 3}, {0, 0, 0}, 1}}, {0, 0, 0}, {4, 4, 4}));
     LasReader plain_las(dir.file("p.las"));
-    CHECK(has_text(copc_error([&] { plain_las.read_only_chunks(offsets); }), "only LAZ"));
+    CHECK(contains(error_text([&] { plain_las.read_only_chunks(offsets); }), "only LAZ"));
 }
 
 TEST_CASE("a damaged COPC hierarchy: a clear error naming the file and what is wrong") {
@@ -163,33 +152,33 @@ TEST_CASE("a damaged COPC hierarchy: a clear error naming the file and what is w
         test::Bytes bytes = good;
         change(bytes);
         test::write_file(path, bytes);
-        return copc_error([&] { read_copc_nodes(path, copc_file_header(path)); });
+        return error_text([&] { read_copc_nodes(path, copc_file_header(path)); });
     };
     // A node that claims one point more than its chunk holds.
     std::string e = damage([&](test::Bytes& b) {
         store_le<std::int32_t>(b.data() + root + 28, load_le<std::int32_t>(b.data() + root + 28) + 1);
     });
-    CHECK(has_text(e, path));
-    CHECK(has_text(e, "nodes hold 1066 points, but the header counts 1065"));
+    CHECK(contains(e, path));
+    CHECK(contains(e, "nodes hold 1066 points, but the header counts 1065"));
     // The root page past the file's end.
     e = damage([&](test::Bytes& b) { store_le<std::uint64_t>(b.data() + info + 40, good.size() + 64); });
-    CHECK(has_text(e, "COPC hierarchy page at byte " + std::to_string(good.size() + 64)));
-    CHECK(has_text(e, "within the file's"));
+    CHECK(contains(e, "COPC hierarchy page at byte " + std::to_string(good.size() + 64)));
+    CHECK(contains(e, "within the file's"));
     // A page that points back at itself.
     e = damage([&](test::Bytes& b) {
         store_le<std::uint64_t>(b.data() + root + 16, root);
         store_le<std::int32_t>(b.data() + root + 24, load_le<std::int32_t>(good.data() + info + 48));
         store_le<std::int32_t>(b.data() + root + 28, -1);
     });
-    CHECK(has_text(e, "point in a loop"));
+    CHECK(contains(e, "point in a loop"));
     // Two nodes on the same bytes.
     e = damage([&](test::Bytes& b) {
         store_le<std::uint64_t>(b.data() + root + 32 + 16, load_le<std::uint64_t>(b.data() + root + 16));
     });
-    CHECK(has_text(e, "overlap"));
+    CHECK(contains(e, "overlap"));
     // A chunk outside the point data.
     e = damage([&](test::Bytes& b) { store_le<std::uint64_t>(b.data() + root + 16, 100); });
-    CHECK(has_text(e, "outside the point data"));
+    CHECK(contains(e, "outside the point data"));
 }
 
 TEST_CASE("a plan of a COPC file: each tile reads only the nodes that touch it, and merged = one run, byte for "

@@ -30,9 +30,7 @@ namespace {
 
 constexpr std::uint64_t points = 60000;
 
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using test::contains;
 
 // A deck scene (at UTM-like coordinates, where offsets matter) and its files.
 struct Split {

@@ -2,6 +2,8 @@
 // Test helpers: temp folders, file I/O and LAS fixtures from the project's own generator.
 #include "test_support.hpp"
 
+#include "lasmesh/error.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -18,6 +20,20 @@
 #include <unordered_map>
 
 namespace test {
+
+std::string error_text(const std::function<void()>& call) {
+    try {
+        call();
+    } catch (const lasmesh::Error& e) {
+        return e.what();
+    }
+    FAIL("no error");
+    return "";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
 
 TempDir::TempDir() {
     static std::atomic<int> counter{0};

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -20,6 +21,12 @@
 namespace test {
 
 using Bytes = std::vector<std::byte>;
+
+// The message of the lasmesh::Error `call` throws; the test fails when it throws none.
+std::string error_text(const std::function<void()>& call);
+
+// Whether `part` occurs in `text`.
+bool contains(const std::string& text, const std::string& part);
 
 // A fresh folder under the system temp folder, removed with everything in it at scope exit.
 class TempDir {

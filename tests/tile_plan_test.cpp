@@ -17,19 +17,8 @@ using namespace lasmesh;
 
 namespace {
 
-std::string error_text(const std::function<void()>& call) {
-    try {
-        call();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    FAIL("no error");
-    return "";
-}
-
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+using test::contains;
+using test::error_text;
 
 OutputRequest request(const std::string& path) {
     OutputRequest output;
