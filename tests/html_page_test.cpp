@@ -76,7 +76,8 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
     HtmlOptions options;
     options.name = "sheet";
     options.facts_json = R"({"device":"cpu","points_read":5,"outputs":[],"seconds":{"total":1},)"
-                         R"("peak_rss_bytes":7,"simplify":{"error":0.125,"seconds":0.5}})";
+                         R"("peak_rss_bytes":7,"simplify":{"error":0.125,"seconds":0.5},)"
+                         R"("thin_parts":{"cells":3,"read_seconds":0.25}})";
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) { // a heat map: colours and distances of their own
         options.heat_colors.push_back({static_cast<std::uint8_t>(v % 251), static_cast<std::uint8_t>(v / 7 % 256), 9});
         options.heat_distance.push_back(0.001 * static_cast<double>(v));
@@ -94,7 +95,8 @@ TEST_CASE("html page: the mesh decodes to the same triangles, colours, positions
     CHECK(header["triangles"] == triangles);
     CHECK(header["origin"] == nlohmann::json({431250.125, 6700200.375, 12.5}));
     CHECK(header["crs"] == "EPSG:32631");
-    CHECK(header["facts"] == nlohmann::json::parse(R"({"points_read":5,"simplify":{"error":0.125}})"));
+    CHECK(header["facts"] ==
+          nlohmann::json::parse(R"({"points_read":5,"simplify":{"error":0.125},"thin_parts":{"cells":3}})"));
     const double step = header["step"];
     CHECK(step <= 0.25 / 1000);
     CHECK(step <= 1e-4);

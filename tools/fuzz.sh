@@ -62,8 +62,9 @@ if [ -d "$laz" ]; then
   done
 fi
 
-# -timeout: one input taking 10 s is a hang; -rss_limit_mb: no input may need much memory.
-"$out/fuzz_las" "$out/corpus" "$out/seeds" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+# -timeout: one input taking 30 s is a hang (sanitized, on a loaded 2-core machine, a slow but
+# finite input takes seconds); -rss_limit_mb: no input may need much memory.
+"$out/fuzz_las" "$out/corpus" "$out/seeds" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
   -artifact_prefix="$out/artifacts/" -print_final_stats=1 -close_fd_mask=3 2>&1 |
   grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done|==|SUMMARY|INFO: seed corpus)|ERROR|runtime error" || true
 exit "${PIPESTATUS[0]}"

@@ -47,15 +47,19 @@ chmod 0600 "$dir/munge.key"
 munged --key-file="$dir/munge.key" --socket="$dir/munge.socket" --pid-file="$dir/munged.pid" \
   --log-file="$dir/munged.log" --seed-file="$dir/munged.seed"
 
-free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+# Two free ports, from one process holding both while it asks, so they differ.
+read -r ctld_port slurmd_port < <(python3 -c 'import socket
+a, b = socket.socket(), socket.socket()
+a.bind(("127.0.0.1", 0)); b.bind(("127.0.0.1", 0))
+print(a.getsockname()[1], b.getsockname()[1])')
 node=lasmeshnode
 # The machine's cores and memory as slurmd sees them, for the node's line.
 cpus=$(nproc)
 cat > "$conf" <<CONF
 ClusterName=lasmeshlocal
 SlurmctldHost=$(hostname -s)(127.0.0.1)
-SlurmctldPort=$(free_port)
-SlurmdPort=$(free_port)
+SlurmctldPort=$ctld_port
+SlurmdPort=$slurmd_port
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
@@ -83,13 +87,13 @@ CONF
 export SLURM_CONF=$conf
 setsid slurmctld -D -i -f "$conf" > "$dir/slurmctld.out" 2>&1 < /dev/null &
 setsid slurmd -D -N "$node" -f "$conf" > "$dir/slurmd.out" 2>&1 < /dev/null &
-for _ in $(seq 100); do
+for _ in $(seq 300); do
   if sinfo -h -N -o '%t' 2> /dev/null | grep -qE '^(idle|mix|alloc)'; then
     echo "export SLURM_CONF=$conf"
     exit 0
   fi
   sleep 0.2
 done
-echo "slurm_local.sh: the node did not come up in 20 s; the logs:" >&2
+echo "slurm_local.sh: the node did not come up in 60 s; the logs:" >&2
 tail -5 "$dir/slurmctld.log" "$dir/slurmd.log" "$dir"/*.out >&2 || true
 exit 1

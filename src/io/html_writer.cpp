@@ -60,6 +60,20 @@ std::string encode_vertices(const std::vector<T>& values) {
     return out;
 }
 
+// Removes the timings from a run's facts, at any depth ("seconds", "read_seconds", ...): they
+// change from run to run, and would change the page's bytes.
+void drop_timings(Json& facts) {
+    if (!facts.is_object()) return;
+    for (auto item = facts.begin(); item != facts.end();) {
+        const std::string& key = item.key();
+        const bool timing = key == "seconds" || (key.size() > 8 && key.ends_with("_seconds"));
+        if (timing)
+            item = facts.erase(item);
+        else
+            drop_timings(*item++);
+    }
+}
+
 } // namespace
 
 std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
@@ -134,8 +148,8 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
     if (heat) header["heat_scale"] = options.heat_scale;
     Json facts = options.facts_json.empty() ? Json() : Json::parse(options.facts_json);
     if (facts.is_object()) { // what changes from run to run would change the page's bytes
-        for (const char* key : {"device", "outputs", "seconds", "peak_rss_bytes"}) facts.erase(key);
-        if (facts.contains("simplify")) facts["simplify"].erase("seconds");
+        for (const char* key : {"device", "outputs", "peak_rss_bytes"}) facts.erase(key);
+        drop_timings(facts);
     }
     header["facts"] = facts;
     const std::string header_text = json_text(header);

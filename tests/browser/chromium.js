@@ -16,11 +16,16 @@ function puppeteerOr77(modules, chromium, script) {
   return require(path.join(modules, "puppeteer-core"));
 }
 
+// How long a page may take to load or answer: generous, since software WebGL on a loaded 2-core
+// machine (sanitized builds beside it) is many times slower than here; a page that fails says
+// so at once, through its own error state.
+const patience = 480000;
+
 // Runs `use(browser)`, then closes the browser and removes its profile.
 async function withChromium(puppeteer, chromium, use) {
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), "lasmesh-chromium-"));
   const browser = await puppeteer.launch({
-    executablePath: chromium, headless: true, userDataDir: profile,
+    executablePath: chromium, headless: true, userDataDir: profile, timeout: patience, protocolTimeout: patience,
     args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
       "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-quic",
       "--disable-dev-shm-usage"],
@@ -42,4 +47,12 @@ function checks() {
   return tally;
 }
 
-module.exports = { puppeteerOr77, withChromium, checks };
+// A new tab whose waits (navigation, waitForFunction) last `patience`.
+async function newTab(browser) {
+  const page = await browser.newPage();
+  page.setDefaultTimeout(patience);
+  page.setDefaultNavigationTimeout(patience);
+  return page;
+}
+
+module.exports = { puppeteerOr77, withChromium, checks, newTab, patience };

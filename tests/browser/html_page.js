@@ -16,7 +16,7 @@
 "use strict";
 const fs = require("fs");
 const path = require("path");
-const { puppeteerOr77, withChromium, checks } = require("./chromium.js");
+const { puppeteerOr77, withChromium, checks, newTab, patience } = require("./chromium.js");
 
 const args = process.argv.slice(2);
 const modules = path.resolve(args[0] || "", "node_modules");
@@ -32,7 +32,7 @@ const tally = checks(), check = tally.check;
 
 (async () => {
   await withChromium(puppeteer, chromium, async (browser) => {
-    const page = await browser.newPage();
+    const page = await newTab(browser);
     await page.setViewport({ width: 1200, height: 800 });
     const asked = [], problems = [];
     await page.setRequestInterception(true);
@@ -45,7 +45,7 @@ const tally = checks(), check = tally.check;
     page.on("pageerror", (e) => problems.push(String(e)));
     await page.setOfflineMode(true);
     await page.goto(`file://${pageFile}`);
-    await page.waitForFunction(() => window.lasmesh && (window.lasmesh.ready || window.lasmesh.error), { timeout: 120000 });
+    await page.waitForFunction(() => window.lasmesh && (window.lasmesh.ready || window.lasmesh.error), { timeout: patience });
     const state = await page.evaluate(() => ({ error: window.lasmesh.error, triangles: window.lasmesh.triangles,
       shown: document.getElementById("triangles").textContent }));
     check("opens from file:// offline without an error", !state.error && problems.length === 0, state.error || problems[0]);

@@ -14,7 +14,7 @@
 "use strict";
 const http = require("http");
 const path = require("path");
-const { puppeteerOr77, withChromium, checks } = require("./chromium.js");
+const { puppeteerOr77, withChromium, checks, newTab, patience } = require("./chromium.js");
 
 const args = process.argv.slice(2);
 const modules = path.resolve(args[0] || "", "node_modules");
@@ -49,12 +49,12 @@ const statusOf = (where, host) => new Promise((resolve, reject) => {
   check("a path it does not serve: 404", (await statusOf(`/../../etc/passwd?token=${token}`, own)) === 404);
 
   await withChromium(puppeteer, chromium, async (browser) => {
-    const page = await browser.newPage();
+    const page = await newTab(browser);
     await page.setViewport({ width: 1400, height: 850 });
     const problems = [];
     page.on("pageerror", (e) => problems.push(String(e)));
     await page.goto(url.href);
-    await page.waitForFunction(() => window.lasmesh && (window.lasmesh.ready || window.lasmesh.error), { timeout: 120000 });
+    await page.waitForFunction(() => window.lasmesh && (window.lasmesh.ready || window.lasmesh.error), { timeout: patience });
     const first = await page.evaluate(() => ({ error: window.lasmesh.error, triangles: window.lasmesh.triangles,
       live: !!window.lasmesh.live, controls: !document.getElementById("live").hidden,
       simplify: document.getElementById("opt-simplify").value, state: window.lasmesh.live && window.lasmesh.live.state }));
@@ -72,7 +72,7 @@ const statusOf = (where, host) => new Promise((resolve, reject) => {
       }
       await page.click("#remesh");
       await page.waitForFunction(() => window.lasmesh.live.job && document.getElementById("remesh").disabled === false,
-        { timeout: 120000 });
+        { timeout: patience });
       await page.evaluate(() => window.lasmesh.live.job);
       return page.evaluate(() => ({ triangles: window.lasmesh.triangles, reread: window.lasmesh.live.reread,
         state: window.lasmesh.live.state, status: document.getElementById("live-status").textContent,
@@ -93,7 +93,7 @@ const statusOf = (where, host) => new Promise((resolve, reject) => {
     // Save: the outputs the command line named, and the command line that writes the same.
     await page.click("#save");
     await page.waitForFunction(() => window.lasmesh.live.saved || /saved|not one|cannot/.test(
-      document.getElementById("live-status").textContent), { timeout: 120000 });
+      document.getElementById("live-status").textContent), { timeout: patience });
     await page.evaluate(() => window.lasmesh.live.job);
     const saved = await page.evaluate(() => ({ saved: window.lasmesh.live.saved,
       command: document.getElementById("live-command").textContent }));

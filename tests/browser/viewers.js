@@ -15,7 +15,7 @@
 const fs = require("fs");
 const http = require("http");
 const path = require("path");
-const { puppeteerOr77, withChromium, checks } = require("./chromium.js");
+const { puppeteerOr77, withChromium, checks, newTab, patience } = require("./chromium.js");
 
 const args = process.argv.slice(2);
 const modules = path.resolve(args[0] || "", "node_modules");
@@ -91,7 +91,7 @@ function metresApart([lon1, lat1, h1], [lon2, lat2, h2]) {
 
 async function open(browser, viewer, base) {
   requested = [];
-  const page = await browser.newPage();
+  const page = await newTab(browser);
   await page.setViewport({ width, height });
   const problems = [];
   // The tiles in the order the page asked for them (the server sees them in whatever order its
@@ -109,12 +109,12 @@ async function open(browser, viewer, base) {
   await page.goto(`${base}/pages/${viewer}.html?${query}`);
   let state = { ready: false };
   const started = Date.now();
-  while (!state.ready && !state.error && Date.now() - started < 120000) {
+  while (!state.ready && !state.error && Date.now() - started < patience) {
     await new Promise((r) => setTimeout(r, 250));
     state = await page.evaluate(() => (window.viewerState ? window.viewerState() : { ready: false }));
   }
   check(`${viewer}: loads the tileset without an error`, state.ready && !state.error && problems.length === 0,
-    state.error || problems[0] || "not done after 120 s");
+    state.error || problems[0] || `not done after ${patience / 1000} s`);
   if (!state.ready) return page.close();
   check(`${viewer}: draws it (${(100 * state.covered).toFixed(1)}% of the frame, ${state.tilesWithContent} tiles, ${state.trianglesDrawn} triangles)`,
     state.covered > 0.05 && state.trianglesDrawn > 0, "less than 5% of the frame");

@@ -74,6 +74,13 @@ set -m
 { head -c 1000000 s.las; sleep 3; tail -c +1000001 s.las; } | "$lasmesh" - -o out.ply 2> err.txt &
 pid=$!
 sleep 1
+# On a slow machine lasmesh may not have started yet: wait until it blocks SIGINT (its signal
+# thread takes it from there), as its status in /proc shows.
+for _ in $(seq 600); do
+  blocked=$(awk '/^SigBlk/ {print $2}' "/proc/$pid/status" 2> /dev/null)
+  [[ -n $blocked ]] && (( 0x$blocked & 2 )) && break
+  sleep 0.05
+done
 kill -INT "$pid"
 wait "$pid"; rc=$?
 check "SIGINT exits 130 (got $rc)" test "$rc" -eq 130

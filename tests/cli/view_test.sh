@@ -16,7 +16,7 @@ cd "$dir" # the names as a user types them: the command line shown is then their
 "$lasmesh" view deck.las -o deck.ply -o deck.html > "$dir/url.txt" 2> "$dir/log.txt" &
 server=$!
 trap 'kill $server 2>/dev/null; chmod -R u+w "$dir"; rm -rf "$dir"' EXIT
-for _ in $(seq 600); do
+for _ in $(seq 3000); do # up to 5 minutes: it meshes first (sanitized, on a slow machine, slowly)
   [ -s "$dir/url.txt" ] || ! kill -0 $server 2>/dev/null && break
   sleep 0.1
 done
