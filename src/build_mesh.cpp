@@ -607,8 +607,8 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             if (pieces) watch.stage_started(BuildStage::extract, "removing small pieces");
             removed = remove_small_pieces(m, o.min_piece);
             if (pieces && a.keeps_surface) {
-                auto surface = std::make_shared<const Accumulation::Surface>(
-                    Accumulation::Surface{iso, o.surface, o.placement, o.min_piece, extracted, removed, m});
+                auto surface = std::make_shared<const Accumulation::Surface>(Accumulation::Surface{
+                    iso, o.surface, o.placement, o.min_piece, o.refine_thin, extracted, removed, m});
                 const std::lock_guard lock(a.surface_mutex);
                 a.surface = std::move(surface);
             }
@@ -773,17 +773,39 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
     if (!same_read_options(a.read_options, o))
         usage_error("grid", "these options read the inputs differently (grid, bounds, CRS, device or memory) from "
                             "the accumulation they are meant to mesh: accumulate the inputs again with them");
-    if (o.refine_thin)
-        usage_error("refine_thin",
-                    "refining thin parts reads the inputs again: mesh them with build_mesh(inputs, ...)");
+    if (o.refine_thin) check_read_options(accumulated.inputs, o); // files, read again
     const std::vector<MeshFormat> formats = check_mesh_options(accumulated.inputs, o);
+    BuildObserver& watch = observer ? *observer : silent;
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
     RunReport r = accumulated.report;
     add_placement_notes(o.outputs, a.crs, r);
+    // The thin parts: those read for this iso already, else read now and kept for the next mesh.
+    std::shared_ptr<const Accumulation::ThinParts> thin;
+    if (o.refine_thin) {
+        const double iso = o.iso ? *o.iso : automatic_iso(a.grid);
+        {
+            const std::lock_guard lock(a.surface_mutex);
+            if (a.thin_parts && a.thin_parts->iso == iso) thin = a.thin_parts;
+        }
+        if (!thin) {
+            RunReport read;
+            auto parts = std::make_shared<Accumulation::ThinParts>();
+            parts->iso = iso;
+            parts->refinement = refine_thin_parts(accumulated.inputs, o, a.grid, watch, read);
+            parts->cells = read.thin_cells, parts->read_seconds = read.thin_read,
+            parts->unrefined = read.thin_unrefined;
+            r.read_accumulate += read.thin_read;
+            thin = parts;
+            const std::lock_guard lock(a.surface_mutex);
+            a.thin_parts = std::move(parts);
+        }
+        r.thin_cells = thin->cells, r.thin_read = thin->read_seconds, r.thin_unrefined = thin->unrefined;
+    }
     CellGrid grid = a.grid; // the accumulation stays whole for the next mesh
-    return mesh_grid(std::move(grid), a, std::move(r), accumulated.inputs, o, formats, observer ? *observer : silent,
-                     accumulated.report.read_accumulate);
+    const double seconds_before = r.read_accumulate;
+    return mesh_grid(std::move(grid), a, std::move(r), accumulated.inputs, o, formats, watch, seconds_before,
+                     thin && thin->refinement ? &*thin->refinement : nullptr);
 }
 
 } // namespace lasmesh

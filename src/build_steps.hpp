@@ -19,6 +19,13 @@
 
 namespace lasmesh {
 
+// Thin parts meshed again at half the cell (BuildOptions::refine_thin): the cells of the grid
+// whose mesh comes from the finer grid, and that grid, holding the points near them.
+struct Refinement {
+    std::vector<std::uint64_t> cells; // keys ((z * dims[1] + y) * dims[0] + x) of the grid's cells, ascending
+    CellGrid fine;
+};
+
 // What reading leaves for meshing: the grid, and what the outputs need of the survey.
 struct Accumulation {
     BuildOptions read_options; // the options it was read with (their read fields count)
@@ -35,17 +42,30 @@ struct Accumulation {
         SurfaceKind surface{};
         VertexPlacement placement{};
         MinPiece min_piece;
+        bool refine_thin = false;
         std::size_t extracted = 0; // triangles before small pieces were removed
         PieceCount pieces;
         Mesh mesh;
         bool same_options(double i, const BuildOptions& o) const {
             return iso == i && surface == o.surface && placement == o.placement &&
-                   min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative;
+                   min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative &&
+                   refine_thin == o.refine_thin;
         }
     };
     bool keeps_surface = false;
-    mutable std::mutex surface_mutex;
+    mutable std::mutex surface_mutex; // guards `surface` and `thin_parts`
     mutable std::shared_ptr<const Surface> surface;
+
+    // The thin parts read again for the last iso a refined mesh asked for (they follow from the
+    // grid and the iso): another mesh at that iso starts from them without a third read.
+    struct ThinParts {
+        double iso = 0;
+        std::optional<Refinement> refinement;
+        std::uint64_t cells = 0; // the report's fields the read set
+        double read_seconds = 0;
+        std::string unrefined;
+    };
+    mutable std::shared_ptr<const ThinParts> thin_parts;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point start);
@@ -87,19 +107,13 @@ void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<s
 void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
                        BuildObserver& watch, Accumulation& a, RunReport& r);
 
-// Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
-// `r` holds the read's fields, `seconds_before` the time the read took.
-// Thin parts meshed again at half the cell (BuildOptions::refine_thin): the cells of the grid
-// whose mesh comes from the finer grid, and that grid, holding the points near them.
-struct Refinement {
-    std::vector<std::uint64_t> cells; // keys ((z * dims[1] + y) * dims[0] + x) of the grid's cells, ascending
-    CellGrid fine;
-};
 // Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
 // near them; nothing when there are none. Sets r.thin_cells and r.thin_read, or r.thin_unrefined.
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r);
 
+// Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
+// `r` holds the read's fields, `seconds_before` the time the read took.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
                       double seconds_before, const Refinement* refined = nullptr);

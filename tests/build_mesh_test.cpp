@@ -169,6 +169,50 @@ TEST_CASE("build_mesh: an empty mesh is an error, and nothing is written") {
     for (const char* name : {"e.ply", "e.glb", "e.json"}) CHECK(!std::filesystem::exists(f.dir.file(name)));
 }
 
+TEST_CASE("accumulate_inputs with refine_thin: one call's bytes, the thin parts read again once an iso") {
+    Fixture f;
+    BuildOptions o = f.options({});
+    o.refine_thin = true;
+    const AccumulatedInputs read = accumulate_inputs({f.input}, o);
+    struct ThinReads : BuildObserver {
+        int reads = 0;
+        void stage_started(BuildStage, const std::string& what) override {
+            reads += what == "reading the thin parts again";
+        }
+    };
+    struct Variant {
+        bool refine;
+        double simplify;
+        std::optional<double> iso;
+    };
+    // The second re-uses the first's thin parts (the same iso); the third reads them for its
+    // own; the fourth, unrefined, must not start from a refined surface kept from the third.
+    const std::vector<Variant> variants = {
+        {true, 0.5, std::nullopt}, {true, 0.25, std::nullopt}, {true, 0.25, 2.0}, {false, 0.25, 2.0}};
+    const std::vector<int> reads_after = {1, 1, 2, 2};
+    ThinReads watch;
+    std::vector<test::Bytes> again;
+    std::vector<std::uint64_t> thin_cells;
+    for (const Variant& v : variants) {
+        BuildOptions m = f.options({"again.ply"});
+        m.refine_thin = v.refine, m.simplify.error = v.simplify, m.iso = v.iso;
+        thin_cells.push_back(build_mesh(read, m, &watch).report.thin_cells);
+        again.push_back(test::read_file(f.dir.file("again.ply")));
+        CHECK(watch.reads == reads_after[again.size() - 1]);
+    }
+    for (std::size_t k = 0; k < variants.size(); ++k) {
+        CAPTURE(k);
+        BuildOptions m = f.options({"once.ply"});
+        m.refine_thin = variants[k].refine, m.simplify.error = variants[k].simplify, m.iso = variants[k].iso;
+        const BuildResult once = build_mesh(f.input, m);
+        CHECK(test::read_file(f.dir.file("once.ply")) == again[k]);
+        CHECK(once.report.thin_cells == thin_cells[k]);
+    }
+    CHECK(thin_cells[0] > 0); // there are thin parts, and refining them changes the mesh
+    CHECK(thin_cells[3] == 0);
+    CHECK(again[2] != again[3]);
+}
+
 TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh call, without a re-read") {
     Fixture f;
     // The accumulation's copy of the input is removed before meshing: a re-read would fail.

@@ -197,7 +197,9 @@ AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, cons
 // writes, without reading the inputs again. The grid is copied (the accumulation stays whole), so
 // this needs its host_grid_bytes once more. The accumulation also keeps the last surface
 // extracted (before simplification): a call that changes only the simplification, the normals
-// or the outputs starts from it, without extracting again. Calls may come from several threads. Throws Error (usage)
+// or the outputs starts from it, without extracting again. With refine_thin the inputs (files)
+// are read again for the points near the thin parts, once for each iso: the accumulation keeps
+// the last iso's. Calls may come from several threads. Throws Error (usage)
 // when `options` read differently from the options the inputs were accumulated with.
 BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions& options,
                        BuildObserver* observer = nullptr);

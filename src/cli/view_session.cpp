@@ -28,7 +28,10 @@ class ViewSession::Watch : public BuildObserver {
         set_stage("idle");
         session_.busy_ = false;
     }
-    void stage_started(BuildStage, const std::string& what) override { set_stage(what); }
+    void stage_started(BuildStage stage, const std::string& what) override {
+        read_inputs = read_inputs || stage == BuildStage::read_accumulate;
+        set_stage(what);
+    }
     void points_read(std::uint64_t points, std::uint64_t points_total, std::uint64_t,
                      std::optional<std::uint64_t>) override {
         session_.points_ = points;
@@ -42,6 +45,9 @@ class ViewSession::Watch : public BuildObserver {
     }
     ViewSession& session_;
     std::unique_lock<std::mutex> job_;
+
+  public:
+    bool read_inputs = false; // this job read the inputs (for a grid, or thin parts again)
 };
 
 namespace {
@@ -184,8 +190,10 @@ Json ViewSession::remesh(const Json& settings) {
         shown_ = now;
     }
     log_ << "lasmesh view: " << now->triangles << " triangles in " << two_digits(seconds) << " s, "
-         << (reread ? "the inputs read again for the grid" : "from the accumulated grid (no re-read)") << ": "
-         << command_line(next) << std::endl;
+         << (reread              ? "the inputs read again for the grid"
+             : watch.read_inputs ? "the inputs read again for the thin parts at this iso"
+                                 : "from the accumulated grid (no re-read)")
+         << ": " << command_line(next) << std::endl;
     Json out = state();
     out["reread"] = reread;
     out["seconds"] = seconds;

@@ -3,6 +3,8 @@
 # `lasmesh view`: started on a small deck, driven in headless Chromium (tests/browser/view_page.js):
 # token and Host checks, a new mesh from the accumulated grid without a re-read (the server's log
 # says so), Save, and the command line it shows writes the same bytes; another grid reads again.
+# With --refine-thin (driven through the page's own requests): the thin parts re-used for a new
+# bound, read again for a new iso, and Save's bytes the command line's.
 # Ends with SIGTERM: exit 143, no output half-written.
 # LASMESH_SCREENSHOTS=FOLDER keeps a picture of the page (docs/img/view-page.png comes from here).
 # Skipped (77) where Chromium or puppeteer-core is not installed (tools/test.sh installs them).
@@ -45,4 +47,33 @@ check "its page is Save's, byte for byte" cmp -s "$dir/deck.html" "$dir/saved/de
 kill -TERM $server; wait $server; rc=$?
 check "SIGTERM stops it (exit 143)" test "$rc" -eq 143
 check "no temporary file left" bash -c "! ls -a '$dir' | grep -q '\\.tmp'"
+
+# With --refine-thin: a new bound re-uses the thin parts read for the first mesh; a new iso reads
+# them again (the log says which); Save writes the command line's bytes.
+"$lasmesh" view deck.las --refine-thin -o thin.ply > "$dir/url2.txt" 2> "$dir/log2.txt" &
+server=$!
+for _ in $(seq 3000); do
+  [ -s "$dir/url2.txt" ] || ! kill -0 $server 2>/dev/null && break
+  sleep 0.1
+done
+node -e '
+const [url, ...bodies] = process.argv.slice(1);
+(async () => {
+  for (const body of bodies) {
+    const [path, json] = body.split(" ");
+    const u = new URL(url); u.pathname = path;
+    const answer = await (await fetch(u, { method: "POST", body: json })).json();
+    if (answer.error) throw new Error(answer.error);
+    if (answer.command) console.log(`command: ${answer.command}`);
+  }
+})().catch((e) => { console.log(`error: ${e.message}`); process.exit(1); });' "$(head -1 "$dir/url2.txt")" \
+  '/mesh {"simplify":"0.25cell"}' '/mesh {"iso":"3"}' '/save {"outputs":["thin.ply"]}' > "$dir/thin-api.txt"; rc=$?
+check "--refine-thin: the page's new bound, iso and Save answered (rc $rc: $(head -c 300 "$dir/thin-api.txt"))" test "$rc" -eq 0
+check "--refine-thin: a new bound re-uses the thin parts" grep -q "from the accumulated grid (no re-read): .*--simplify 0.25cell" "$dir/log2.txt"
+check "--refine-thin: a new iso reads them again" grep -q "the inputs read again for the thin parts at this iso: .*--iso 3" "$dir/log2.txt"
+command=$(sed -n 's/^command: //p' "$dir/thin-api.txt")
+mv thin.ply saved/thin.ply 2> /dev/null
+PATH="$(dirname "$lasmesh"):$PATH" bash -c "$command -q" 2> "$dir/command.txt"
+check "--refine-thin: Save's PLY is its command line's ($command), byte for byte" cmp -s thin.ply saved/thin.ply
+kill -TERM $server; wait $server
 finish view
