@@ -35,6 +35,15 @@ check "merge: the summary names the outputs" has merge.txt "many/tileset.json"
 check "merged PLY = one run's PLY, byte for byte" cmp -s one/mesh.ply many/mesh.ply
 check "merged GLB = one run's GLB" cmp -s one/mesh.glb many/mesh.glb
 check "merged tileset = one run's tileset, every file" diff -r one many
+# Thin parts: the merge reads the inputs again for them, as one machine does.
+"$lasmesh" "${inputs[@]}" -o thin-one.ply --refine-thin > thin-one.txt 2>&1
+"$lasmesh" merge site.plan.json -o thin-many.ply --refine-thin > thin-many.txt 2>&1; rc=$?
+check "merge --refine-thin: exit 0" test "$rc" -eq 0
+check "merge --refine-thin: thin parts found and meshed" contains thin-many.txt "^thin parts     [1-9][0-9]* cells meshed"
+thin_line() { grep '^thin parts ' "$1" | sed 's/, read again in .*//'; }
+check "merge --refine-thin: the same thin parts as one run" test "$(thin_line thin-one.txt)" = "$(thin_line thin-many.txt)"
+check "merge --refine-thin: PLY = one run's, byte for byte" cmp -s thin-one.ply thin-many.ply
+check "merge --refine-thin: the thin parts changed the mesh" bash -c "! cmp -s thin-many.ply one/mesh.ply"
 
 # A cell edge instead of the automatic grid, tiles read one input at a time.
 "$lasmesh" "${inputs[@]}" -o edge-one.ply --voxel 0.2 -q
