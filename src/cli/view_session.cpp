@@ -28,6 +28,8 @@ class ViewSession::Watch : public BuildObserver {
         set_stage("idle");
         session_.busy_ = false;
     }
+    bool read_inputs = false; // this job read the inputs (for a grid, or thin parts again)
+
     void stage_started(BuildStage stage, const std::string& what) override {
         read_inputs = read_inputs || stage == BuildStage::read_accumulate;
         set_stage(what);
@@ -45,9 +47,6 @@ class ViewSession::Watch : public BuildObserver {
     }
     ViewSession& session_;
     std::unique_lock<std::mutex> job_;
-
-  public:
-    bool read_inputs = false; // this job read the inputs (for a grid, or thin parts again)
 };
 
 namespace {
