@@ -150,12 +150,17 @@ std::pair<double, double> directions(const Seen& a, const Seen& b, const Seen& c
     return {p[2], p[1] + 4};
 }
 
-// Whether the range of directions [from, to] (as `directions` gives it) and the sector from a
-// to b counter-clockwise (less than half a turn) share more than a boundary.
-bool arcs_overlap(double from, double to, const Seen& a, const Seen& b) {
+// The sector from a to b counter-clockwise (less than half a turn) as pseudo-angles, the end
+// past the start (4 added when it wraps).
+std::pair<double, double> sector(const Seen& a, const Seen& b) {
     const double start = pseudo_angle(a);
-    double end = pseudo_angle(b);
-    if (end <= start) end += 4;
+    const double end = pseudo_angle(b);
+    return {start, end <= start ? end + 4 : end};
+}
+
+// Whether the range of directions [from, to] (as `directions` gives it) and the sector [start,
+// end] (as `sector` gives it) share more than a boundary.
+bool arcs_overlap(double from, double to, double start, double end) {
     constexpr double margin = 1e-12;
     for (const double shift : {-4.0, 0.0, 4.0})
         if (start + shift < to - margin && from < end + shift - margin) return true;
@@ -342,6 +347,12 @@ class Block {
         std::uint32_t vertex, stamp;
         bool operator<(const Entry& o) const { return cost != o.cost ? cost > o.cost : vertex > o.vertex; }
     };
+    // A collapse of u onto `vertex`: its order, then the error its faces would carry; where its
+    // faces' errors are kept.
+    struct Candidate {
+        double cost;
+        std::uint32_t vertex, split_at;
+    };
     struct Neighbour {
         std::uint32_t vertex, uses;
         Neighbour() {} // left unset by resize: neighbours() fills what it keeps
@@ -446,7 +457,7 @@ class Block {
                 if (c <= s_.bound * s_.bound) candidates_.push_back({c, n.vertex, 0});
             }
         if (candidates_.empty()) return;
-        std::sort(candidates_.begin(), candidates_.end(), [](const Entry& a, const Entry& b) {
+        std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& a, const Candidate& b) {
             return a.cost != b.cost ? a.cost < b.cost : a.vertex < b.vertex;
         });
         if (candidates_[0].cost > queued_cost * (1 + 1e-6) + 1e-30) {
@@ -461,24 +472,93 @@ class Block {
         // needs v's neighbours) only for the collapse chosen.
         // No collapse carries less than u's faces do already (the new faces cover the old ones):
         // one that adds nothing is the best, and the rest need no look.
+        star_seen_ = false; // u's star is seen at the first collapse that needs it
+        // Each allowed collapse's new errors are kept (from `split_at` on in tried_split_) for
+        // the collapse made.
+        tried_split_.clear();
         for (std::size_t i = 0; i < candidates_.size(); ++i) {
             double error = 0;
-            Entry& c = candidates_[i];
+            Candidate& c = candidates_[i];
             c.cost = geometry_allows(u, c.vertex, error) ? error : std::numeric_limits<double>::infinity();
+            c.split_at = std::uint32_t(tried_split_.size());
+            if (c.cost != std::numeric_limits<double>::infinity())
+                tried_split_.insert(tried_split_.end(), new_split_.begin(), new_split_.end());
             if (c.cost <= spent) {
                 candidates_.resize(i + 1);
                 break;
             }
         }
         std::stable_sort(candidates_.begin(), candidates_.end(),
-                         [](const Entry& a, const Entry& b) { return a.cost < b.cost; });
-        for (const Entry& c : candidates_) {
+                         [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+        for (const Candidate& c : candidates_) {
             if (c.cost == std::numeric_limits<double>::infinity()) return;
             if (!topology_allows(u, c.vertex)) continue;
-            double error = 0;
-            geometry_allows(u, c.vertex, error); // again: star_errors keeps the last collapse's errors
-            return collapse(u, c.vertex);
+            return collapse(u, c.vertex, tried_split_.data() + c.split_at);
         }
+    }
+
+    // u's star as seen along n, the direction of its faces' summed normals, the same for every v
+    // u may move onto (star_errors), so seen once a try: the plane across n (u at its origin),
+    // per old face its corners there, its errors and the terms of its split turned onto n, and
+    // the link's vertices. False when n is zero or a face is
+    // folded over as seen along it.
+    //
+    // A point's offset from an old face i, a n_i + L (a in [below, above], |L| <= across, L
+    // across n_i), is a c + L.n along n (|L.n| <= across s, c = n_i.n, s = sqrt(1 - c^2)) and at
+    // most |a| s + across across it.
+    bool see_star(std::uint32_t u) {
+        V3 n{0, 0, 0};
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const Face& f = face_[fan(u)[i]];
+            const V3 c = cross(sub(pos(f[1]), pos(f[0])), sub(pos(f[2]), pos(f[0])));
+            for (int a = 0; a < 3; ++a) n[a] += c[a];
+        }
+        const double n_length = norm(n);
+        if (!(n_length > 0)) return false;
+        for (double& c : n) c /= n_length;
+        // Two directions across n: the plane the stars are seen in, u at its origin.
+        V3 t1 = cross(n, std::abs(n[0]) < 0.6 ? V3{1, 0, 0} : V3{0, 1, 0});
+        const double t1_length = norm(t1);
+        for (double& c : t1) c /= t1_length;
+        star_origin_ = pos(u), star_n_ = n, star_t1_ = t1, star_t2_ = cross(n, t1);
+        old_fan_.clear(), old_ends_.clear(), old_scale_.clear(), old_error_.clear(), old_turned_.clear();
+        old_link_.clear(), link_.clear();
+        const auto link_of = [&](std::uint32_t vertex, const Seen& at) {
+            std::uint32_t l = 0;
+            while (l < link_.size() && link_[l].vertex != vertex) ++l;
+            if (l == link_.size()) link_.push_back({vertex, at, 0});
+            return l;
+        };
+        const Seen su{0, 0, 0};
+        for (std::uint32_t i = 0; i < size_[u]; ++i) {
+            const std::uint32_t fi = fan(u)[i];
+            const Face& f = face_[fi];
+            const int at = f[0] == u ? 0 : f[1] == u ? 1 : 2;
+            const std::uint32_t a = f[(at + 1) % 3], b = f[(at + 2) % 3];
+            const Seen sa = seen(pos(a)), sb = seen(pos(b));
+            const double scale = std::max({sa.x * sa.x + sa.y * sa.y, sb.x * sb.x + sb.y * sb.y, 1e-300});
+            if (!(cross2(su, sa, sb) > 1e-9 * scale)) return false; // folded over, as seen along n
+            old_link_.push_back({link_of(a, sa), link_of(b, sb)});
+            old_fan_.push_back({sa, sb});
+            old_ends_.push_back({a, b});
+            old_scale_.push_back(scale);
+            const FaceError& e = face_error_[fi];
+            old_error_.push_back(bound(e));
+            const V3 axis{e.axis[0], e.axis[1], e.axis[2]};
+            const double c = std::clamp(dot(axis, n), -1.0, 1.0), sine = std::sqrt(1 - c * c);
+            const double lo = std::min(e.below * c, e.above * c), hi = std::max(e.below * c, e.above * c);
+            const auto [start, end] = sector(sa, sb);
+            // (1e-6: the axis is kept in floats, a unit vector to about 1e-7.)
+            old_turned_.push_back({lo - e.across * sine, hi + e.across * sine,
+                                   std::max(-double(e.below), double(e.above)) * (sine + 1e-6) + e.across, start, end});
+        }
+        return true;
+    }
+
+    // A point as see_star saw u's star.
+    Seen seen(const V3& p) const {
+        const V3 d = sub(p, star_origin_);
+        return Seen{dot(d, star_t1_), dot(d, star_t2_), dot(d, star_n_)};
     }
 
     // The errors the faces replacing u's would carry if u moved onto v, into new_error_ (one a
@@ -507,50 +587,24 @@ class Block {
     //     point lies within the distance from the foot of its bisector at u to the edge v-u of the
     //     old border (the farthest a point of the triangle is from its two other edges).
     bool star_errors(std::uint32_t u, std::uint32_t v, std::uint32_t other) {
+        if (!star_seen_) star_visible_ = see_star(u), star_seen_ = true;
+        if (!star_visible_) return false;
         const V3& pu = pos(u);
         const V3& pv = pos(v);
-        V3 n{0, 0, 0};
-        for (std::uint32_t i = 0; i < size_[u]; ++i) {
-            const Face& f = face_[fan(u)[i]];
-            const V3 c = cross(sub(pos(f[1]), pos(f[0])), sub(pos(f[2]), pos(f[0])));
-            for (int a = 0; a < 3; ++a) n[a] += c[a];
-        }
-        const double n_length = norm(n);
-        if (!(n_length > 0)) return false;
-        for (double& c : n) c /= n_length;
-        // Two directions across n: the plane the stars are seen in, u at its origin.
-        V3 t1 = cross(n, std::abs(n[0]) < 0.6 ? V3{1, 0, 0} : V3{0, 1, 0});
-        const double t1_length = norm(t1);
-        for (double& c : t1) c /= t1_length;
-        const V3 t2 = cross(n, t1);
-        const auto seen = [&](const V3& p) {
-            const V3 d = sub(p, pu);
-            return Seen{dot(d, t1), dot(d, t2), dot(d, n)};
-        };
-        // The fans: old faces (u, a, b), and the new faces (v, a, b) those not on edge uv become.
-        old_fan_.clear(), new_fan_.clear(), old_error_.clear(), old_split_.clear(), old_normal_.clear();
-        double inherited = 0;
-        std::size_t start = 0; // an open fan's first face, the one after its border edge u-a
         const Seen su{0, 0, 0}, sv = seen(pv);
-        for (std::uint32_t i = 0; i < size_[u]; ++i) {
-            const std::uint32_t fi = fan(u)[i];
-            const Face& f = face_[fi];
-            const int at = f[0] == u ? 0 : f[1] == u ? 1 : 2;
-            const std::uint32_t a = f[(at + 1) % 3], b = f[(at + 2) % 3];
-            const Seen sa = seen(pos(a)), sb = seen(pos(b));
-            const double scale = std::max({sa.x * sa.x + sa.y * sa.y, sb.x * sb.x + sb.y * sb.y, 1e-300});
-            const double area = cross2(su, sa, sb);
-            if (!(area > 1e-9 * scale)) return false; // folded over, as seen along n
-            if (other != u && (a == v || a == other)) start = old_fan_.size();
-            old_fan_.push_back({sa, sb});
-            old_error_.push_back(bound(face_error_[fi]));
-            old_split_.push_back(face_error_[fi]);
-            const auto& axis = face_error_[fi].axis;
-            old_normal_.push_back({axis[0], axis[1], axis[2]});
-            inherited = std::max(inherited, old_error_.back());
+        // The new faces (v, a, b) the old faces not on edge uv become.
+        new_fan_.clear(), new_link_.clear();
+        for (Link& l : link_) l.new_faces = 0;
+        std::size_t start = 0; // an open fan's first face, the one after its border edge u-a
+        for (std::size_t i = 0; i < old_fan_.size(); ++i) {
+            const auto [a, b] = old_ends_[i];
+            if (other != u && (a == v || a == other)) start = i;
             if (a == v || b == v) continue; // goes
-            if (!(cross2(sv, sa, sb) > 1e-9 * scale)) return false;
+            const auto& [sa, sb] = old_fan_[i];
+            if (!(cross2(sv, sa, sb) > 1e-9 * old_scale_[i])) return false;
+            for (const std::uint32_t l : old_link_[i]) ++link_[l].new_faces;
             new_fan_.push_back({sa, sb});
+            new_link_.push_back(old_link_[i]);
         }
         // No face left to carry the old ones' errors (u had only faces on edge uv): refused.
         if (new_fan_.empty()) return false;
@@ -571,24 +625,33 @@ class Block {
             pair_below_[i * m + j] = std::min(pair_below_[i * m + j], up);
             pair_above_[i * m + j] = std::max(pair_above_[i * m + j], up);
         };
-        for (std::size_t i = 0; i < old_fan_.size(); ++i)
-            for (const Seen* a : {&old_fan_[i].first, &old_fan_[i].second}) { // the edges from u; inner ones twice
-                const double v_side = a->x * sv.y - a->y * sv.x;              // v's side of the line u-a
-                for (std::size_t j = 0; j < m; ++j)
-                    for (const Seen* w : {&new_fan_[j].first, &new_fan_[j].second}) {
-                        // A proper crossing: v and w on opposite sides of u-a, u and a of v-w.
-                        if (v_side * (a->x * w->y - a->y * w->x) >= 0) continue;
-                        if (cross2(sv, *w, su) * cross2(sv, *w, *a) >= 0) continue;
-                        // Where: s a = v + t (w - v).
-                        const double fx = w->x - sv.x, fy = w->y - sv.y;
-                        const double det = fx * a->y - fy * a->x;
-                        const double s = (fx * sv.y - fy * sv.x) / det, t = (a->x * sv.y - a->y * sv.x) / det;
-                        // On edge v-w of face j (the other face on it finds it too).
-                        const double up = sv.h + t * (w->h - sv.h) - s * a->h; // new surface over old
-                        step_[j] = std::max(step_[j], std::abs(up));
-                        at_pair(i, j, up); // on edge u-a of face i (the other face on it finds it too)
-                    }
+        // Each edge u-a from u against each edge v-w of the new faces, once (the faces on each
+        // side of either edge share what it finds).
+        const auto has = [](const std::array<std::uint32_t, 2>& ends, std::uint32_t l) {
+            return ends[0] == l || ends[1] == l;
+        };
+        for (std::uint32_t from_u = 0; from_u < link_.size(); ++from_u) {
+            const Seen* a = &link_[from_u].at;
+            const double v_side = a->x * sv.y - a->y * sv.x; // v's side of the line u-a
+            for (std::uint32_t from_v = 0; from_v < link_.size(); ++from_v) {
+                if (link_[from_v].new_faces == 0) continue;
+                const Seen* w = &link_[from_v].at;
+                // A proper crossing: v and w on opposite sides of u-a, u and a of v-w.
+                if (v_side * (a->x * w->y - a->y * w->x) >= 0) continue;
+                if (cross2(sv, *w, su) * cross2(sv, *w, *a) >= 0) continue;
+                // Where: s a = v + t (w - v).
+                const double fx = w->x - sv.x, fy = w->y - sv.y;
+                const double det = fx * a->y - fy * a->x;
+                const double s = (fx * sv.y - fy * sv.x) / det, t = (a->x * sv.y - a->y * sv.x) / det;
+                const double up = sv.h + t * (w->h - sv.h) - s * a->h; // new surface over old
+                for (std::size_t j = 0; j < m; ++j) {
+                    if (!has(new_link_[j], from_v)) continue; // on edge v-w of new face j
+                    step_[j] = std::max(step_[j], std::abs(up));
+                    for (std::size_t i = 0; i < old_fan_.size(); ++i) // on edge u-a of old face i
+                        if (has(old_link_[i], from_u)) at_pair(i, j, up);
+                }
             }
+        }
         // u over the new surface: the height there, for the faces that hold it.
         bool u_inside = false;
         holds_u_.assign(m, 0);
@@ -608,34 +671,28 @@ class Block {
         // A new face carries the largest error of the old faces it overlaps. Old face i is the part
         // of the old polygon in the sector of directions from u between its edges, so a new face
         // overlaps it when their ranges of directions from u overlap (all of them when it holds u).
-        // Split along the new face's normal N: a point's offset from an old face, a n_i + L (a in
-        // [below, above], |L| <= across, L across n_i), is a c + L.N along N (|L.N| <= across s,
-        // c = n_i.N, s = sqrt(1 - c^2)) and at most |a| s + across across it; the step adds its
-        // height times n.N along N and times the sine across.
+        // Split along the new face's normal (n: see_star turned the old splits onto it), the
+        // step adds its height.
         new_error_.resize(m), new_split_.resize(m);
         for (std::size_t j = 0; j < m; ++j) {
             double carried = 0, below = 0, above = 0, across = 0;
             std::optional<std::pair<double, double>> range; // of directions from u, when the face does not hold u
             if (!holds_u_[j]) range = directions(sv, new_fan_[j].first, new_fan_[j].second);
             for (std::size_t i = 0; i < old_fan_.size(); ++i) {
-                if (range && !arcs_overlap(range->first, range->second, old_fan_[i].first, old_fan_[i].second))
-                    continue;
+                const Turned& e = old_turned_[i];
+                if (range && !arcs_overlap(range->first, range->second, e.start, e.end)) continue;
                 carried = std::max(carried, old_error_[i]);
-                const FaceError& e = old_split_[i];
-                const double c = std::clamp(dot(old_normal_[i], n), -1.0, 1.0), sine = std::sqrt(1 - c * c);
-                const double lo = std::min(e.below * c, e.above * c), hi = std::max(e.below * c, e.above * c);
                 // The step along n over the piece they share adds as it is.
-                below = std::min(below, lo - e.across * sine + pair_below_[i * m + j]);
-                above = std::max(above, hi + e.across * sine + pair_above_[i * m + j]);
-                // (1e-6: the axis is kept in floats, a unit vector to about 1e-7.)
-                across = std::max(across, std::max(-double(e.below), double(e.above)) * (sine + 1e-6) + e.across);
+                below = std::min(below, e.below + pair_below_[i * m + j]);
+                above = std::max(above, e.above + pair_above_[i * m + j]);
+                across = std::max(across, e.across);
             }
             const double total = carried + step_[j];
             new_split_[j] = {float_at_most(below),
                              float_at_least(above),
                              float_at_least(across),
                              float_at_least(total),
-                             {float(n[0]), float(n[1]), float(n[2])}};
+                             {float(star_n_[0]), float(star_n_[1]), float(star_n_[2])}};
             new_error_[j] = bound(new_split_[j]);
         }
         if (!border) return true;
@@ -793,8 +850,9 @@ class Block {
         return true;
     }
 
-    // Moves u onto v; the new faces take the errors star_errors(u, v) gave them last.
-    void collapse(std::uint32_t u, std::uint32_t v) {
+    // Moves u onto v; the new faces take the errors star_errors(u, v) gave them (`split`, in
+    // the order of u's faces not on edge uv).
+    void collapse(std::uint32_t u, std::uint32_t v, const FaceError* split) {
         std::size_t kept = 0;
         quadric_[v].add(quadric_[u]);
         weight_[v] += weight_[u];
@@ -817,7 +875,7 @@ class Block {
             }
             for (std::uint32_t& w : f)
                 if (w == u) w = v;
-            face_error_[fi] = new_split_[kept++];
+            face_error_[fi] = split[kept++];
             append(v, fi);
         }
         size_[u] = 0;
@@ -855,13 +913,30 @@ class Block {
     std::vector<Neighbour> around_, around_u_, around_v_;
     std::vector<std::uint32_t> opposite_, tag_, slot_, parent_, ring_;
     std::uint32_t tag_now_ = 0, ring_now_ = 0;
-    std::vector<Entry> candidates_;
+    std::vector<Candidate> candidates_;
     // star_errors': the fans as seen along n, the old faces' errors, per new face its largest
     // step and its error (one per face of u's not on edge uv, in fan order: collapse() follows it).
+    // see_star's: u's star along n, the same for every collapse of u (seen once a try).
+    bool star_seen_ = false, star_visible_ = false;
+    V3 star_origin_{}, star_n_{}, star_t1_{}, star_t2_{};
+    // An old face's split turned onto n: the lowest and highest offset along n, the farthest
+    // across it; and its sector of directions from u.
+    struct Turned {
+        double below, above, across, start, end;
+    };
+    // A vertex of u's link: where it is seen, and how many new faces it is a corner of.
+    struct Link {
+        std::uint32_t vertex;
+        Seen at;
+        std::uint32_t new_faces;
+    };
+    // Per old and new face: its corners other than u (or v), as vertices and as links.
     std::vector<std::pair<Seen, Seen>> old_fan_, new_fan_;
-    std::vector<double> old_error_, step_, pair_below_, pair_above_, new_error_;
-    std::vector<FaceError> old_split_, new_split_;
-    std::vector<V3> old_normal_;
+    std::vector<std::array<std::uint32_t, 2>> old_ends_, old_link_, new_link_;
+    std::vector<double> old_scale_, old_error_, step_, pair_below_, pair_above_, new_error_;
+    std::vector<Turned> old_turned_;
+    std::vector<Link> link_;
+    std::vector<FaceError> new_split_, tried_split_;
     std::vector<char> holds_u_;
 };
 
