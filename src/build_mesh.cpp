@@ -20,6 +20,7 @@
 #include "measure/level_error.hpp"
 #include "mesh/marching_cubes.hpp"
 #include "mesh/mesh_edit.hpp"
+#include "mesh/seam.hpp"
 #include "mesh/surface_sheet.hpp"
 #include "read/crs.hpp"
 #include "read/input_stream.hpp"
@@ -598,7 +599,9 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 Mesh thin = extract_sheet(refined->fine, fine_iso);
                 keep_triangles_in_blocks(thin, spec, 0, refined->cells, true);
                 keep_triangles_in_blocks(m, spec, 0, refined->cells, false);
-                append_mesh(m, thin);
+                const SeamReport seam = append_joined(m, thin, spec, refined->cells);
+                watch.detail("seam           " + std::to_string(seam.joined) + " stretches joined on " +
+                             std::to_string(seam.faces) + " cell faces where the two meshes meet");
             }
             cells = CellGrid{}; // not needed any more: the writers get its memory
             extracted = m.triangles.size();

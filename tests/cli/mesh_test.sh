@@ -193,7 +193,7 @@ check "--skip-bad-inputs: the summary names it" contains "$dir/cut.txt" "^skippe
 # primitives.
 "$lasgen" --scene deck --points 2000000 -o "$dir/deck.las"
 "$lasmesh" "$dir/deck.las" -o "$dir/plain.ply" -q
-"$lasmesh" "$dir/deck.las" -o "$dir/thin.ply" --refine-thin --report "$dir/thin.json" 2> "$dir/thin.txt"
+"$lasmesh" "$dir/deck.las" -o "$dir/thin.ply" --refine-thin --report "$dir/thin.json" -v 2> "$dir/thin.txt"
 "$lasgen" --scene deck --measure "$dir/plain.ply" --samples 200000 --json "$dir/plain.truth.json" > /dev/null
 "$lasgen" --scene deck --measure "$dir/thin.ply" --samples 200000 --json "$dir/thin.truth.json" > /dev/null
 check "--refine-thin: railings nearer their truth, in size too; containers and pipes as they were; p99 lower" python3 -c "
@@ -215,6 +215,12 @@ rest = lambda x: sum(p['triangles'] for p in x['parts'] if p['part'] != 'railing
 assert rest(b) < 1.2 * rest(a), (rest(a), rest(b))
 assert b['triangles'] < 1.5 * a['triangles'], (a['triangles'], b['triangles'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
 check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin parts     [0-9]* cells meshed at cells of 0.0"
+# Where the fine mesh meets the coarse one, on the faces of the cells between them, most of the
+# seam is joined (the rest: the two meshes' borders cross a face between different cell edges).
+check "--refine-thin: the seam joined on most faces where the meshes meet" python3 -c "
+import re, sys
+m = re.search(r'^seam +([0-9]+) stretches joined on ([0-9]+) cell faces', open(sys.argv[1]).read(), re.M)
+assert m and int(m.group(2)) > 100 and int(m.group(1)) > 0.4 * int(m.group(2)), m and m.groups()" "$dir/thin.txt"
 check "--refine-thin: and the report" python3 -c "
 import json, sys; r = json.load(open(sys.argv[1])); t = r['thin_parts']
 assert t['cells'] > 100 and abs(t['cell_size'] - r['grid']['cell_size'] / 2) < 1e-12, t" "$dir/thin.json"

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: Apache-2.0
+// The seam between the coarse mesh and the fine mesh of the thin parts: a flat layer of points
+// meshed at a cell and at half of it, the halves kept on either side of a plane of cell faces,
+// joined into one surface whose edges on that plane are each shared by two triangles.
+#include "mesh/mesh_edit.hpp"
+#include "mesh/seam.hpp"
+#include "mesh/surface_sheet.hpp"
+#include "test_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <map>
+
+using namespace lasmesh;
+
+namespace {
+
+// A layer of cells holding 4 points each, at z layer `layer`, over the whole of x and y.
+CellGrid layer_grid(const GridSpec& spec, std::uint32_t layer) {
+    std::vector<std::uint64_t> count(spec.cell_count(), 0);
+    for (std::uint64_t y = 0; y < spec.dims[1]; ++y)
+        for (std::uint64_t x = 0; x < spec.dims[0]; ++x) count[(layer * spec.dims[1] + y) * spec.dims[0] + x] = 4;
+    return test::grid_from_counts(spec, count);
+}
+
+// Per undirected edge, how many triangles use it; and whether a directed edge appears twice (two
+// triangles facing opposite ways across it).
+struct Edges {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    bool facing_apart = false;
+};
+
+Edges edges_of(const Mesh& m) {
+    Edges e;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            ++e.uses[{std::min(a, b), std::max(a, b)}];
+            e.facing_apart = e.facing_apart || ++directed[{a, b}] > 1;
+        }
+    return e;
+}
+
+} // namespace
+
+TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces between them, facing its way") {
+    // Cells of 1, 12 x 8 x 4; the points of the coarse grid's layer 1 at z = 1.5, of the fine
+    // grid's layer 3 at z = 1.75: two planes a quarter cell apart, as two meshes of one noisy
+    // surface are. The fine mesh is kept in the cells with x < 6, the coarse one in the others.
+    GridSpec coarse_spec;
+    coarse_spec.dims = {12, 8, 4};
+    GridSpec fine_spec = coarse_spec;
+    fine_spec.cell_size = 0.5, fine_spec.dims = {24, 16, 8};
+    std::vector<std::uint64_t> fine_cells;
+    for (std::uint64_t z = 0; z < 4; ++z)
+        for (std::uint64_t y = 0; y < 8; ++y)
+            for (std::uint64_t x = 0; x < 6; ++x) fine_cells.push_back((z * 8 + y) * 12 + x);
+    std::sort(fine_cells.begin(), fine_cells.end());
+    Mesh coarse = extract_sheet(layer_grid(coarse_spec, 1), 1);
+    Mesh fine = extract_sheet(layer_grid(fine_spec, 3), 1);
+    keep_triangles_in_blocks(coarse, coarse_spec, 0, fine_cells, false);
+    keep_triangles_in_blocks(fine, coarse_spec, 0, fine_cells, true);
+    REQUIRE(!coarse.triangles.empty());
+    REQUIRE(!fine.triangles.empty());
+    const auto on_seam = [](const std::array<float, 3>& p) { return p[0] == 6.0f; };
+    const auto check_joined = [&](const Mesh& joined, const SeamReport& seam, std::size_t fine_triangles) {
+        // The 8 faces of the plane x = 6 the layer crosses, each joined.
+        CHECK(seam.faces == 8);
+        CHECK(seam.joined == 8);
+        // Every triangle kept; the coarse triangles on the seam split at the fine vertices.
+        CHECK(joined.triangles.size() >= coarse.triangles.size() + fine_triangles + 8);
+        const Edges e = edges_of(joined);
+        CHECK(!e.facing_apart);
+        std::size_t on_plane = 0;
+        for (const auto& [edge, uses] : e.uses) {
+            CHECK(uses <= 2);
+            if (on_seam(joined.positions[edge.first]) && on_seam(joined.positions[edge.second])) {
+                ++on_plane;
+                CHECK(uses == 2); // no border left on the seam
+            }
+        }
+        CHECK(on_plane >= 16); // the chains: two fine edges a face
+        // The seam's vertices are the coarse ones, at z = 1.5 (the fine ones were at 1.75).
+        for (const auto& p : joined.positions)
+            if (on_seam(p)) CHECK(p[2] == doctest::Approx(1.5));
+    };
+    {
+        Mesh joined = coarse;
+        const SeamReport seam = append_joined(joined, fine, coarse_spec, fine_cells);
+        check_joined(joined, seam, fine.triangles.size());
+        // And the two layers still where they were away from the seam.
+        std::size_t fine_kept = 0;
+        for (const auto& p : joined.positions) fine_kept += p[2] == 1.75f;
+        CHECK(fine_kept > 0);
+    }
+    {
+        // The fine mesh facing down: it is turned to face up as the coarse one does, then joined.
+        Mesh down = fine;
+        for (auto& t : down.triangles) std::swap(t[1], t[2]);
+        for (auto& n : down.normals)
+            for (float& c : n) c = -c;
+        Mesh joined = coarse;
+        const SeamReport seam = append_joined(joined, down, coarse_spec, fine_cells);
+        check_joined(joined, seam, down.triangles.size());
+        for (std::size_t v = coarse.positions.size(); v < joined.normals.size(); ++v) CHECK(joined.normals[v][2] > 0);
+    }
+    {
+        // No fine cells on the seam's other side: nothing to join, the meshes appended.
+        Mesh joined = coarse;
+        const SeamReport seam = append_joined(joined, Mesh{}, coarse_spec, fine_cells);
+        CHECK(seam.faces == 0);
+        CHECK(joined.triangles == coarse.triangles);
+    }
+}
