@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// remove_unused_vertices, keep_triangles_in_blocks, append_mesh.
+// remove_unused_vertices, keep_triangles_in_blocks, append_mesh, connected_parts, turn_over.
 #include "mesh/mesh_edit.hpp"
 
 #include <algorithm>
@@ -68,6 +68,31 @@ void append_mesh(Mesh& mesh, const Mesh& more) {
         for (std::uint32_t& v : t) v += first;
         mesh.triangles.push_back(t);
     }
+}
+
+std::vector<std::uint32_t> connected_parts(const Mesh& mesh) {
+    std::vector<std::uint32_t> root(mesh.positions.size());
+    for (std::uint32_t v = 0; v < root.size(); ++v) root[v] = v;
+    const auto find = [&](std::uint32_t v) {
+        while (root[v] != v) v = root[v] = root[root[v]]; // path halving
+        return v;
+    };
+    for (const auto& t : mesh.triangles)
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t a = find(t[0]), b = find(t[k]);
+            if (a != b) root[std::max(a, b)] = std::min(a, b); // the smaller number roots
+        }
+    // Every link points to a smaller number, so one ascending pass leaves each vertex on its root.
+    for (std::uint32_t v = 0; v < root.size(); ++v) root[v] = root[root[v]];
+    return root;
+}
+
+void turn_over(Mesh& mesh, const std::vector<char>& turned) {
+    for (auto& t : mesh.triangles)
+        if (turned[t[0]]) std::swap(t[1], t[2]);
+    for (std::uint32_t v = 0; v < turned.size() && !mesh.normals.empty(); ++v)
+        if (turned[v])
+            for (float& c : mesh.normals[v]) c = -c;
 }
 
 } // namespace lasmesh

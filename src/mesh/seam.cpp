@@ -228,30 +228,16 @@ int agreement(const Mesh& coarse, const Mesh& fine, const std::vector<SeamEdge>&
 // continues the coarse surface around it.
 void face_as_coarse(Mesh& fine, const Mesh& coarse, const std::vector<SeamEdge>& coarse_seam,
                     const std::vector<SeamEdge>& fine_seam, double h) {
-    std::vector<std::uint32_t> root(fine.positions.size());
-    for (std::uint32_t v = 0; v < root.size(); ++v) root[v] = v;
-    const auto find = [&](std::uint32_t v) {
-        while (root[v] != v) v = root[v] = root[root[v]];
-        return v;
-    };
-    for (const auto& t : fine.triangles)
-        for (int k = 1; k < 3; ++k) {
-            const std::uint32_t a = find(t[0]), b = find(t[k]);
-            if (a != b) root[std::max(a, b)] = std::min(a, b);
-        }
-    std::vector<long> votes(fine.positions.size(), 0); // per part, at its root
+    const std::vector<std::uint32_t> part = connected_parts(fine);
+    std::vector<long> votes(fine.positions.size(), 0); // per part
     std::vector<SeamEdge> segments, pieces;
     for_each_face(coarse_seam, fine_seam, segments, pieces, [&] {
         for (const std::vector<std::uint32_t>& chain : chains_of(pieces))
-            votes[find(chain.front())] += agreement(coarse, fine, segments, chain, h);
+            votes[part[chain.front()]] += agreement(coarse, fine, segments, chain, h);
     });
     std::vector<char> turn(fine.positions.size(), 0);
-    for (std::uint32_t v = 0; v < turn.size(); ++v) turn[v] = votes[find(v)] < 0;
-    for (auto& t : fine.triangles)
-        if (turn[t[0]]) std::swap(t[1], t[2]);
-    for (std::uint32_t v = 0; v < turn.size() && !fine.normals.empty(); ++v)
-        if (turn[v])
-            for (float& c : fine.normals[v]) c = -c;
+    for (std::uint32_t v = 0; v < turn.size(); ++v) turn[v] = votes[part[v]] < 0;
+    turn_over(fine, turn);
 }
 
 V3 normal_of(const std::array<V3, 3>& t) {

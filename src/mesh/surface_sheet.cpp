@@ -4,6 +4,7 @@
 #include "mesh/surface_sheet.hpp"
 
 #include "lasmesh/normals.hpp"
+#include "mesh/mesh_edit.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -318,18 +319,8 @@ void orient_normals(Planes& planes, const Outside& outside) {
 // not behind: a box's wall reached by the spanning tree from the floor inside the box.
 void face_outside(Mesh& mesh, const Outside& outside, double cell) {
     const std::size_t nv = mesh.positions.size();
-    std::vector<std::uint32_t> root(nv);
-    for (std::uint32_t v = 0; v < nv; ++v) root[v] = v;
-    const auto find = [&](std::uint32_t v) {
-        while (root[v] != v) v = root[v] = root[root[v]];
-        return v;
-    };
-    for (const auto& t : mesh.triangles)
-        for (int k = 1; k < 3; ++k) {
-            const std::uint32_t a = find(t[0]), b = find(t[k]);
-            if (a != b) root[std::max(a, b)] = std::min(a, b);
-        }
-    std::vector<double> votes(nv, 0); // per part, at its root
+    const std::vector<std::uint32_t> part = connected_parts(mesh);
+    std::vector<double> votes(nv, 0); // per part
     for (const auto& t : mesh.triangles) {
         Vec p[3];
         for (int k = 0; k < 3; ++k) p[k] = {mesh.positions[t[k]][0], mesh.positions[t[k]][1], mesh.positions[t[k]][2]};
@@ -343,15 +334,11 @@ void face_outside(Mesh& mesh, const Outside& outside, double cell) {
                          (p[0][2] + p[1][2] + p[2][2]) / 3};
         const bool front = outside.open(centre, normal, cell),
                    back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
-        if (front != back) votes[find(t[0])] += front ? twice_area : -twice_area;
+        if (front != back) votes[part[t[0]]] += front ? twice_area : -twice_area;
     }
     std::vector<char> turn(nv, 0);
-    for (std::uint32_t v = 0; v < nv; ++v) turn[v] = votes[find(v)] < 0;
-    for (auto& t : mesh.triangles)
-        if (turn[t[0]]) std::swap(t[1], t[2]);
-    for (std::uint32_t v = 0; v < nv && !mesh.normals.empty(); ++v)
-        if (turn[v])
-            for (float& c : mesh.normals[v]) c = -c;
+    for (std::uint32_t v = 0; v < nv; ++v) turn[v] = votes[part[v]] < 0;
+    turn_over(mesh, turn);
 }
 
 // Steps 3 and 4: the signed distance at the cell corners, as a field for sparse marching cubes.
