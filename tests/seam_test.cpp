@@ -107,6 +107,31 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
         for (std::size_t v = coarse.positions.size(); v < joined.normals.size(); ++v) CHECK(joined.normals[v][2] > 0);
     }
     {
+        // A hole in the fine layer at the seam (its cube x 5.5-6, y 2.5-3 left out): the chain on
+        // the face y 2-3 ends inside the face, and is laid from its other end as far as it goes;
+        // one border edge is left on the seam, the coarse one from the laid vertex on.
+        Mesh holed = fine;
+        std::erase_if(holed.triangles, [&](const std::array<std::uint32_t, 3>& t) {
+            double x = 0, y = 0;
+            for (const std::uint32_t v : t) x += holed.positions[v][0] / 3, y += holed.positions[v][1] / 3;
+            return x > 5.5 && y > 2.5 && y < 3;
+        });
+        REQUIRE(holed.triangles.size() < fine.triangles.size());
+        Mesh joined = coarse;
+        const SeamReport seam = append_joined(joined, holed, coarse_spec, fine_cells);
+        CHECK(seam.faces == 8);
+        CHECK(seam.joined == 8);
+        const Edges e = edges_of(joined);
+        CHECK(!e.facing_apart);
+        std::size_t border_on_seam = 0;
+        for (const auto& [edge, uses] : e.uses) {
+            CHECK(uses <= 2);
+            border_on_seam +=
+                uses == 1 && on_seam(joined.positions[edge.first]) && on_seam(joined.positions[edge.second]);
+        }
+        CHECK(border_on_seam == 1);
+    }
+    {
         // No fine cells on the seam's other side: nothing to join, the meshes appended.
         Mesh joined = coarse;
         const SeamReport seam = append_joined(joined, Mesh{}, coarse_spec, fine_cells);

@@ -119,12 +119,16 @@ std::vector<SeamEdge> seam_edges(const Mesh& m, const GridSpec& grid, const std:
     return seam;
 }
 
-// A fine chain laid onto a coarse segment P -> Q of coarse triangle `triangle`: the chain runs
-// from Q's cell edge to P's, and its inner vertices go onto the segment.
+// A fine chain laid onto a coarse segment P -> Q of coarse triangle `triangle`. The chain runs
+// from Q's cell edge towards P's: its end on Q's edge becomes Q, its end on P's edge (when it
+// reaches it) P, and its vertices in between go onto the segment. A chain that ends inside the
+// face (at a hole of the fine sheet) or on another cell edge is laid from the end that matches
+// as far as it follows the segment: there the seam is joined in part.
 struct Match {
     std::uint32_t triangle, p, q;
-    std::vector<std::uint32_t> chain; // fine vertices, from Q's end to P's
-    std::vector<V3> onto;             // the inner ones' places on the segment, in chain order
+    std::uint32_t at_q = none, at_p = none; // the fine vertices that become Q and P, if any
+    std::vector<std::uint32_t> inner;       // the fine vertices laid onto the segment, from Q's end to P's
+    std::vector<V3> onto;                   // their places on it
 };
 
 // The chains of fine border edges on one face, each from a vertex no edge enters; empty when the
@@ -176,36 +180,75 @@ void for_each_face(const std::vector<SeamEdge>& coarse_seam, const std::vector<S
     }
 }
 
-// The coarse segment a chain matches on its face, laid out, or nothing.
+// The coarse segment a chain matches on its face, laid out, or nothing: both its ends on the
+// segment's cell edges (Q's first), or one of them, and then at least one vertex laid.
 std::optional<Match> match_chain(const Mesh& coarse, const Mesh& fine, const std::vector<SeamEdge>& segments,
                                  const std::vector<std::uint32_t>& chain, double h) {
     const LatticeEdge from = lattice_edge(fine, chain.front(), h), to = lattice_edge(fine, chain.back(), h);
-    if (from.axis == 3 || to.axis == 3 || from == to) return std::nullopt;
+    if (from == to) return std::nullopt;
     for (std::size_t i = 1; i + 1 < chain.size(); ++i)
         if (lattice_edge(fine, chain[i], h).axis != 3) return std::nullopt;
+    // The segment whose Q lies on the chain's first cell edge, or whose P on its last.
     const SeamEdge* found = nullptr;
-    for (const SeamEdge& s : segments)
-        if (lattice_edge(coarse, s.b, h) == from && lattice_edge(coarse, s.a, h) == to) {
-            if (found) return std::nullopt;
-            found = &s;
-        }
+    bool at_q = false, at_p = false;
+    for (const SeamEdge& s : segments) {
+        const bool q = from.axis != 3 && lattice_edge(coarse, s.b, h) == from;
+        const bool p = to.axis != 3 && lattice_edge(coarse, s.a, h) == to;
+        if (!q && !p) continue;
+        if (found) return std::nullopt;
+        found = &s, at_q = q, at_p = p;
+    }
     if (!found) return std::nullopt;
-    Match m{found->triangle, found->a, found->b, chain, {}};
+    Match m{found->triangle, found->a, found->b, none, none, {}, {}};
     const V3 p = position(coarse, m.p), q = position(coarse, m.q);
     const V3 pq{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
     const double length2 = pq[0] * pq[0] + pq[1] * pq[1] + pq[2] * pq[2];
     if (!(length2 > 0)) return std::nullopt;
-    double last = 1; // the parameter from P (0) to Q (1): falling along the chain, inside (0, 1)
-    for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
-        const V3 x = position(fine, chain[i]);
+    // Where a vertex goes on the segment: its parameter from P (0) to Q (1), or nothing when it
+    // is too far from it (more than half a cell) or past its ends.
+    const auto laid = [&](std::uint32_t v) -> std::optional<std::pair<double, V3>> {
+        const V3 x = position(fine, v);
         const double s = ((x[0] - p[0]) * pq[0] + (x[1] - p[1]) * pq[1] + (x[2] - p[2]) * pq[2]) / length2;
-        if (!(s < last - 1e-3) || !(s > 1e-3)) return std::nullopt;
-        last = s;
+        if (!(s > 1e-3 && s < 1 - 1e-3)) return std::nullopt;
         const V3 onto{p[0] + s * pq[0], p[1] + s * pq[1], p[2] + s * pq[2]};
         const V3 d{x[0] - onto[0], x[1] - onto[1], x[2] - onto[2]};
-        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > h * h / 4) return std::nullopt; // too far to move
-        m.onto.push_back(onto);
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > h * h / 4) return std::nullopt;
+        return std::pair{s, onto};
+    };
+    const std::size_t n = chain.size();
+    if (at_q && at_p) { // the whole chain, its parameters falling from Q to P
+        m.at_q = chain.front(), m.at_p = chain.back();
+        double last = 1;
+        for (std::size_t i = 1; i + 1 < n; ++i) {
+            const auto at = laid(chain[i]);
+            if (!at || !(at->first < last - 1e-3)) return std::nullopt;
+            last = at->first;
+            m.inner.push_back(chain[i]), m.onto.push_back(at->second);
+        }
+        return m;
     }
+    // One end: from it, as long as the vertices follow the segment (the far end too when it lies
+    // inside the face, at a hole; on another cell edge it stays).
+    if (at_q) {
+        m.at_q = chain.front();
+        double last = 1;
+        for (std::size_t i = 1; i + (to.axis == 3 ? 0 : 1) < n; ++i) {
+            const auto at = laid(chain[i]);
+            if (!at || !(at->first < last - 1e-3)) break;
+            last = at->first;
+            m.inner.push_back(chain[i]), m.onto.push_back(at->second);
+        }
+    } else {
+        m.at_p = chain.back();
+        double last = 0;
+        for (std::size_t i = n - 1; i-- > (from.axis == 3 ? 0 : 1);) {
+            const auto at = laid(chain[i]);
+            if (!at || !(at->first > last + 1e-3)) break;
+            last = at->first;
+            m.inner.insert(m.inner.begin(), chain[i]), m.onto.insert(m.onto.begin(), at->second);
+        }
+    }
+    if (m.inner.empty()) return std::nullopt;
     return m;
 }
 
@@ -284,9 +327,22 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         }
     };
     using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
-    drop_shared([](const Match& m) { return Pairs{{m.triangle, m.p}}; }); // a triangle, split on one edge only
-    drop_shared([](const Match& m) { return Pairs{{m.chain.front(), m.q}, {m.chain.back(), m.p}}; });
-    drop_shared([](const Match& m) { return Pairs{{m.q, m.chain.front()}, {m.p, m.chain.back()}}; });
+    {
+        // A coarse triangle is split once: by one chain, on one edge.
+        std::vector<std::pair<std::uint32_t, std::size_t>> split; // (triangle, match)
+        for (std::size_t i = 0; i < matches.size(); ++i) split.emplace_back(matches[i].triangle, i);
+        std::sort(split.begin(), split.end());
+        for (std::size_t i = 0; i + 1 < split.size(); ++i)
+            if (split[i].first == split[i + 1].first) kept[split[i].second] = kept[split[i + 1].second] = 0;
+    }
+    const auto welds = [](const Match& m, bool fine_first) {
+        Pairs pairs;
+        for (const auto& [f, c] : {std::pair{m.at_q, m.q}, std::pair{m.at_p, m.p}})
+            if (f != none) pairs.push_back(fine_first ? std::pair{f, c} : std::pair{c, f});
+        return pairs;
+    };
+    drop_shared([&](const Match& m) { return welds(m, true); });
+    drop_shared([&](const Match& m) { return welds(m, false); });
     std::vector<std::vector<std::uint32_t>> fine_triangles_of(fine.positions.size());
     for (std::uint32_t t = 0; t < fine.triangles.size(); ++t)
         for (const std::uint32_t v : fine.triangles[t]) fine_triangles_of[v].push_back(t);
@@ -297,10 +353,9 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         for (std::uint32_t i = 0; i < matches.size(); ++i) {
             if (!kept[i]) continue;
             const Match& m = matches[i];
-            moved_to[m.chain.front()] = position(coarse, m.q), moved_by[m.chain.front()] = i;
-            moved_to[m.chain.back()] = position(coarse, m.p), moved_by[m.chain.back()] = i;
-            for (std::size_t k = 0; k < m.onto.size(); ++k)
-                moved_to[m.chain[k + 1]] = m.onto[k], moved_by[m.chain[k + 1]] = i;
+            if (m.at_q != none) moved_to[m.at_q] = position(coarse, m.q), moved_by[m.at_q] = i;
+            if (m.at_p != none) moved_to[m.at_p] = position(coarse, m.p), moved_by[m.at_p] = i;
+            for (std::size_t k = 0; k < m.inner.size(); ++k) moved_to[m.inner[k]] = m.onto[k], moved_by[m.inner[k]] = i;
         }
         turned = false;
         for (std::uint32_t v = 0; v < fine.positions.size(); ++v) {
@@ -330,9 +385,10 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     for (std::uint32_t i = 0; i < matches.size(); ++i) {
         if (!kept[i]) continue;
         const Match& m = matches[i];
-        index[m.chain.front()] = m.q, index[m.chain.back()] = m.p;
-        for (std::size_t k = 0; k < m.onto.size(); ++k)
-            for (int a = 0; a < 3; ++a) fine.positions[m.chain[k + 1]][a] = static_cast<float>(m.onto[k][a]);
+        if (m.at_q != none) index[m.at_q] = m.q;
+        if (m.at_p != none) index[m.at_p] = m.p;
+        for (std::size_t k = 0; k < m.inner.size(); ++k)
+            for (int a = 0; a < 3; ++a) fine.positions[m.inner[k]][a] = static_cast<float>(m.onto[k][a]);
     }
     std::vector<std::array<std::uint32_t, 3>> triangles;
     triangles.swap(fine.triangles);
@@ -341,8 +397,8 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         for (std::uint32_t& v : t) v = index[v];
         coarse.triangles.push_back(t);
     }
-    // Each matched coarse triangle (P, Q, R) becomes a fan from R over P, the chain's inner
-    // vertices from P's end, and Q.
+    // Each matched coarse triangle (P, Q, R) becomes a fan from R over P, the laid vertices from
+    // P's end, and Q.
     for (std::uint32_t i = 0; i < matches.size(); ++i) {
         if (!kept[i]) continue;
         const Match& m = matches[i];
@@ -352,13 +408,13 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         const std::uint32_t r = t[(e + 2) % 3];
         std::uint32_t previous = m.p;
         bool first_piece = true;
-        for (std::size_t k = m.chain.size() - 1; k-- > 1;) {
-            const std::array<std::uint32_t, 3> piece{previous, index[m.chain[k]], r};
+        for (std::size_t k = m.inner.size(); k-- > 0;) {
+            const std::array<std::uint32_t, 3> piece{previous, index[m.inner[k]], r};
             if (first_piece)
                 coarse.triangles[m.triangle] = piece, first_piece = false;
             else
                 coarse.triangles.push_back(piece);
-            previous = index[m.chain[k]];
+            previous = index[m.inner[k]];
         }
         const std::array<std::uint32_t, 3> last{previous, m.q, r};
         if (first_piece)

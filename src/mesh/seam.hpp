@@ -29,7 +29,9 @@ struct SeamReport {
 // cell edges, the opposite way round), the chain's ends become the segment's ends, its inner
 // vertices move onto the segment, and the coarse triangle is split at them, so the two meshes
 // share the seam's edges (after the crack patching of Shu, Zhou & Kankanhalli 1995, "Adaptive
-// marching cubes"). Elsewhere (no counterpart, a move that would turn a fine triangle over) the
+// marching cubes"). A chain with one end on one of the segment's cell edges (the other inside the
+// face, at a hole of the fine sheet, or on another cell edge) is laid from that end as far as it
+// follows the segment. Elsewhere (no counterpart, a move that would turn a fine triangle over) the
 // borders stay as they were.
 SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
                          const std::vector<std::uint64_t>& fine_cells);
