@@ -406,21 +406,11 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         int e = 0;
         while (!(t[e] == m.p && t[(e + 1) % 3] == m.q)) ++e;
         const std::uint32_t r = t[(e + 2) % 3];
-        std::uint32_t previous = m.p;
-        bool first_piece = true;
-        for (std::size_t k = m.inner.size(); k-- > 0;) {
-            const std::array<std::uint32_t, 3> piece{previous, index[m.inner[k]], r};
-            if (first_piece)
-                coarse.triangles[m.triangle] = piece, first_piece = false;
-            else
-                coarse.triangles.push_back(piece);
-            previous = index[m.inner[k]];
-        }
-        const std::array<std::uint32_t, 3> last{previous, m.q, r};
-        if (first_piece)
-            coarse.triangles[m.triangle] = last;
-        else
-            coarse.triangles.push_back(last);
+        std::vector<std::uint32_t> along{m.p};
+        for (std::size_t k = m.inner.size(); k-- > 0;) along.push_back(index[m.inner[k]]);
+        along.push_back(m.q);
+        coarse.triangles[m.triangle] = {along[0], along[1], r};
+        for (std::size_t k = 1; k + 1 < along.size(); ++k) coarse.triangles.push_back({along[k], along[k + 1], r});
         ++report.joined;
     }
     remove_unused_vertices(coarse);
