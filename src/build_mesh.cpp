@@ -596,7 +596,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 // automatic one rounded as automatic_iso rounds (not the finer grid's own median,
                 // which would follow how far around the thin parts its points were read).
                 const double fine_iso = r.iso_auto ? std::max(1.0, std::floor(iso / 4)) : iso / 4;
-                Mesh thin = extract_sheet(refined->fine, fine_iso);
+                Mesh thin = extract_sheet(refined->fine, fine_iso, LinearParts::tubes);
                 keep_triangles_in_blocks(thin, spec, 0, refined->cells, true);
                 keep_triangles_in_blocks(m, spec, 0, refined->cells, false);
                 const SeamReport seam = append_joined(m, thin, spec, refined->cells);

@@ -307,3 +307,72 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
     CAPTURE(sheet.positions.size());
     CHECK(inward == 0);
 }
+
+TEST_CASE("thin parts at a fine grid: a rail is a tube of its own radius, one thinner than the lattice holds is kept") {
+    // Two rails along x (slightly tilted off the lattice), of radius 2.5 cm and 0.8 cm, 1 m long,
+    // meshed at cells of 3 cm: the first is a few cells across, the second slips between the
+    // lattice's corners (under half a cell's diagonal, 2.1 cm). Measured away from their ends.
+    const double cell = 0.03, length = 1, from = 0.1 + 3 * cell, to = 0.1 + length - 3 * cell;
+    const std::array<double, 2> radii{0.025, 0.008};
+    const auto axis_at = [&](int rail, double x) { // the axis's y and z at x
+        return std::array<double, 2>{0.2 + 0.3 * rail + 0.03 * x, 0.2 + 0.02 * x};
+    };
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 11;
+    auto next = [&] {
+        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+    };
+    for (int rail = 0; rail < 2; ++rail)
+        for (int i = 0; i < 60000; ++i) {
+            const double x = 0.1 + length * next(), angle = 2 * std::numbers::pi * next();
+            const auto at = axis_at(rail, x);
+            points.push_back(point(x, at[0] + radii[rail] * std::cos(angle), at[1] + radii[rail] * std::sin(angle)));
+        }
+    test::TempDir dir;
+    test::write_file(dir.file("rails.las"), test::las_with_points(points, {0, 0, 0}, {1.2, 0.8, 0.4}, 8, 3, 0.0001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::cell_edge(cell);
+    const CellGrid g = test::accumulate_file(dir.file("rails.las"), grid);
+    struct Fit {
+        std::array<double, 2> off{}, span{}; // per rail: mean |distance from the axis - radius|, length covered
+        std::size_t border = 0;              // border edges
+    };
+    const auto fit = [&](const Mesh& m) {
+        Fit f;
+        for (int rail = 0; rail < 2; ++rail) {
+            const double expected = std::max(radii[rail], std::numbers::sqrt2 / 2 * g.spec.cell_size);
+            double off = 0, first = 1e9, last = -1e9;
+            std::size_t count = 0;
+            for (const auto& p : m.positions) {
+                const double x = m.origin[0] + p[0], y = m.origin[1] + p[1], z = m.origin[2] + p[2];
+                const auto at = axis_at(rail, x);
+                const double d = std::hypot(y - at[0], z - at[1]);
+                if (d > 0.1 || x < from || x > to) continue;
+                off += std::abs(d - expected), ++count;
+                first = std::min(first, x), last = std::max(last, x);
+            }
+            f.off[rail] = count ? off / double(count) : 1e9;
+            f.span[rail] = count ? last - first : 0;
+        }
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+        for (const auto& t : m.triangles)
+            for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+        for (const auto& [edge, n] : uses) {
+            const double x = m.origin[0] + (m.positions[edge.first][0] + m.positions[edge.second][0]) / 2;
+            f.border += n == 1 && x > from && x < to;
+        }
+        return f;
+    };
+    const Fit tubes = fit(extract_sheet(g, automatic_iso(g), LinearParts::tubes));
+    const Fit planes = fit(extract_sheet(g, automatic_iso(g)));
+    for (int rail = 0; rail < 2; ++rail) {
+        CAPTURE(rail);
+        const double expected = std::max(radii[rail], std::numbers::sqrt2 / 2 * g.spec.cell_size);
+        CHECK(tubes.off[rail] < 0.2 * expected); // round its axis at its radius, or the lattice's smallest
+        CHECK(tubes.span[rail] > 0.75 * length); // its whole length
+    }
+    // Closer than the planes' sheet of the same cells, and closed round where that is torn.
+    CHECK(tubes.off[0] < 0.5 * planes.off[0]);
+    CHECK(tubes.border == 0);
+    CHECK(planes.border > 50);
+}

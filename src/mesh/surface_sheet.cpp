@@ -3,6 +3,8 @@
 // signed distance at the cell corners and contoured by sparse marching cubes.
 #include "mesh/surface_sheet.hpp"
 
+#include "grid/thin_parts.hpp"
+
 #include "lasmesh/normals.hpp"
 #include "mesh/mesh_edit.hpp"
 #include "sparse_marching_cubes.hpp"
@@ -14,6 +16,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace lasmesh {
 
@@ -66,6 +69,13 @@ Vec plane_normal(std::array<std::array<double, 3>, 3> a) {
     return length > 0 ? Vec{n[0] / length, n[1] / length, n[2] / length} : Vec{0, 0, 1};
 }
 
+// The surface round a line of cells (a rail, a post, a thin pipe): a cylinder.
+struct Tube {
+    Vec point{};     // on the axis, relative to the grid origin
+    Vec direction{}; // unit
+    double radius = 0;
+};
+
 // The surface cells and their tangent planes.
 struct Planes {
     const CellGrid& grid;
@@ -75,6 +85,7 @@ struct Planes {
     std::vector<Vec> normal;
     std::vector<std::uint64_t> count;
     std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
+    std::vector<Tube> tube;  // with LinearParts::tubes: per plane, its tube (radius 0: none)
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const CellGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
@@ -205,6 +216,71 @@ struct Outside {
         return false;
     }
 };
+
+// Step 1b (LinearParts::tubes): a surface cell whose surface cells around it (5 x 5 x 5, at least
+// four) lie along a line gets a tube round that line: the axis through their count-weighted mean
+// along their principal axis, the radius their RMS distance from it. Along a line: the spread of
+// their centroids (the covariance's eigenvalues, largest first) is long (the second under half the
+// first) and round across it (the third over a tenth of the second: a strip of a plane's edge is
+// long but flat), or too narrow to tell (the second under a quarter of a cell squared: a rail
+// thinner than the lattice). The radius is at most two cells. A cell's centroid is the centroid of
+// the arc of the tube's surface inside it, about a cell long, which lies sin(t) / t of the radius
+// from the axis (t half the arc's angle, h / 2R): the radius is corrected by that, and raised to
+// sqrt(2) / 2 of a cell, the distance from a line through cell centres along a lattice axis to the
+// nearest lattice edge: a thinner tube would slip between the corners and vanish.
+void estimate_tubes(Planes& planes) {
+    const std::size_t n = planes.cell.size();
+    planes.tube.assign(n, Tube{});
+    const double h = planes.grid.spec.cell_size;
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+        std::array<std::uint32_t, 125> near;
+        std::size_t count = 0;
+        const auto& c = planes.cell[p];
+        for (int dz = -2; dz <= 2; ++dz)
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const std::uint32_t q = planes.at(c[0] + dx, c[1] + dy, c[2] + dz);
+                    if (q != no_plane) near[count++] = q;
+                }
+        if (count < 4) return;
+        double total = 0;
+        Vec mean{};
+        for (std::size_t k = 0; k < count; ++k) {
+            const double w = static_cast<double>(planes.count[near[k]]);
+            total += w;
+            for (int i = 0; i < 3; ++i) mean[i] += w * planes.centroid[near[k]][i];
+        }
+        for (double& m : mean) m /= total;
+        std::array<std::array<double, 3>, 3> covariance{}, negated{};
+        for (std::size_t k = 0; k < count; ++k) {
+            const double w = static_cast<double>(planes.count[near[k]]);
+            const Vec& q = planes.centroid[near[k]];
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) covariance[i][j] += w * (q[i] - mean[i]) * (q[j] - mean[j]);
+        }
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) negated[i][j] = -covariance[i][j];
+        const Vec direction = plane_normal(negated); // the smallest eigenvector of -C: C's largest
+        double across = 0;                           // the count-weighted squared distances from the axis
+        for (std::size_t k = 0; k < count; ++k) {
+            const Vec& q = planes.centroid[near[k]];
+            const Vec r{q[0] - mean[0], q[1] - mean[1], q[2] - mean[2]};
+            const double a = dot(r, direction);
+            across += static_cast<double>(planes.count[near[k]]) * (dot(r, r) - a * a);
+        }
+        const std::array<double, 3> spread = symmetric_eigenvalues(covariance); // largest first
+        const bool long_and_round =
+            spread[1] < 0.5 * spread[0] && (spread[2] > 0.1 * spread[1] || spread[1] < 0.25 * h * h * total);
+        if (!long_and_round || across > 4 * h * h * total) return;
+        const double rms = std::sqrt(across / total);
+        double radius = rms;
+        for (int k = 0; k < 3; ++k) {
+            const double t = std::min(h / radius, 3.0) / 2;
+            radius = rms * t / std::sin(t);
+        }
+        planes.tube[p] = {mean, direction, std::max(radius, std::numbers::sqrt2 / 2 * h)};
+    });
+}
 
 // Neighbouring planes closer to parallel than this (the cosine of 25 degrees) continue one smooth
 // surface; at a box's edge (90 degrees) the cells' planes turn in steps of about 45.
@@ -394,6 +470,13 @@ struct SheetField {
                              bits != 0; bits &= bits - 1)
                             consider(x - 2 + std::countr_zero(bits), cy, cz);
             if (nearest == no_plane) return {};
+            if (!planes.tube.empty() && planes.tube[nearest].radius > 0) { // the distance to the tube, out
+                const Tube& tube = planes.tube[nearest];
+                const Vec r{corner[0] - tube.point[0], corner[1] - tube.point[1], corner[2] - tube.point[2]};
+                const double along = dot(r, tube.direction);
+                const double f = std::sqrt(std::max(0.0, dot(r, r) - along * along)) - tube.radius;
+                return {static_cast<float>(f), nearest, true, f < 0};
+            }
             const Vec& m = planes.centroid[nearest];
             const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
             return {static_cast<float>(f), nearest, true, f < 0};
@@ -450,6 +533,10 @@ struct SheetField {
     // rules tear more holes than they avoid stray triangles).
     bool accepts(const detail::FieldSample& a, const detail::FieldSample& b) const {
         if (a.source == b.source) return true;
+        if (!planes.tube.empty()) { // tubes meet tubes (their distances are both outward); not planes
+            const bool tube_a = planes.tube[a.source].radius > 0, tube_b = planes.tube[b.source].radius > 0;
+            if (tube_a || tube_b) return tube_a && tube_b;
+        }
         const Vec& na = planes.normal[a.source];
         const Vec& nb = planes.normal[b.source];
         if (dot(na, nb) <= 0) return false;
@@ -457,6 +544,17 @@ struct SheetField {
         const Vec& pb = planes.centroid[b.source];
         const Vec d{pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
         return std::abs(dot(na, d)) <= 2 * h && std::abs(dot(nb, d)) <= 2 * h;
+    }
+    // The surface's normal at `at` as cell p's plane or tube has it: a tube's points away from its axis.
+    Vec normal_at(std::uint32_t p, const Vec& at) const {
+        if (planes.tube.empty() || !(planes.tube[p].radius > 0)) return planes.normal[p];
+        const Tube& tube = planes.tube[p];
+        const Vec r{at[0] - tube.point[0], at[1] - tube.point[1], at[2] - tube.point[2]};
+        const double along = dot(r, tube.direction);
+        const Vec out{r[0] - along * tube.direction[0], r[1] - along * tube.direction[1],
+                      r[2] - along * tube.direction[2]};
+        const double length = std::sqrt(dot(out, out));
+        return length > 0 ? Vec{out[0] / length, out[1] / length, out[2] / length} : planes.normal[p];
     }
     void vertex(const std::array<std::int64_t, 3>& p, int axis, const detail::FieldSample& a,
                 const detail::FieldSample& b, detail::VertexOut& out) const {
@@ -466,8 +564,8 @@ struct SheetField {
         const double t = std::clamp(static_cast<double>(a.value) / (static_cast<double>(a.value) - b.value), 0.1, 0.9);
         for (int c = 0; c < 3; ++c)
             out.position[c] = static_cast<float>((static_cast<double>(p[c]) + (c == axis ? t : 0.0)) * h);
-        const Vec& na = planes.normal[a.source];
-        const Vec& nb = planes.normal[b.source];
+        const Vec at{out.position[0], out.position[1], out.position[2]};
+        const Vec na = normal_at(a.source, at), nb = normal_at(b.source, at);
         Vec n{(1 - t) * na[0] + t * nb[0], (1 - t) * na[1] + t * nb[1], (1 - t) * na[2] + t * nb[2]};
         const double length = std::sqrt(dot(n, n));
         for (int c = 0; c < 3; ++c) out.normal[c] = static_cast<float>(length > 0 ? n[c] / length : na[c]);
@@ -483,10 +581,11 @@ struct SheetField {
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
 // table once the corners are sampled.
-Mesh extract(const CellGrid& grid, double iso, CellGrid* owned) {
+Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
+    if (linear == LinearParts::tubes) estimate_tubes(planes);
     const Outside outside(planes);
     orient_normals(planes, outside);
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
@@ -521,12 +620,12 @@ Mesh extract(const CellGrid& grid, double iso, CellGrid* owned) {
 
 } // namespace
 
-Mesh extract_sheet(const CellGrid& grid, double iso) {
-    return extract(grid, iso, nullptr);
+Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear) {
+    return extract(grid, iso, linear, nullptr);
 }
 
-Mesh extract_sheet(CellGrid&& grid, double iso) {
-    return extract(grid, iso, &grid);
+Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear) {
+    return extract(grid, iso, linear, &grid);
 }
 
 } // namespace lasmesh
