@@ -376,3 +376,42 @@ TEST_CASE("thin parts at a fine grid: a rail is a tube of its own radius, one th
     CHECK(tubes.border == 0);
     CHECK(planes.border > 50);
 }
+
+TEST_CASE("thin parts at a fine grid: a rail crossing a post is closed where they meet") {
+    // A rail along x and a post along z, both of radius 2.5 cm, crossing at (0.5, 0.3, 0.5), at
+    // cells of 3 cm: the cells where they cross lie along two lines, not one.
+    const double cell = 0.03, radius = 0.025;
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 7;
+    auto next = [&] {
+        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+    };
+    while (points.size() < 80000) {
+        const double s = 0.1 + 0.8 * next(), angle = 2 * std::numbers::pi * next();
+        const double u = radius * std::cos(angle), v = radius * std::sin(angle);
+        if (points.size() % 2 == 0) { // the rail, less what lies inside the post
+            if (std::hypot(s - 0.5, u) > radius) points.push_back(point(s, 0.3 + u, 0.5 + v));
+        } else if (std::hypot(u, s - 0.5) > radius) { // the post, less what lies inside the rail
+            points.push_back(point(0.5 + u, 0.3 + v, s));
+        }
+    }
+    test::TempDir dir;
+    test::write_file(dir.file("cross.las"), test::las_with_points(points, {0, 0, 0}, {1, 0.6, 1}, 8, 3, 0.0001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::cell_edge(cell);
+    const CellGrid g = test::accumulate_file(dir.file("cross.las"), grid);
+    const Mesh tubes = extract_sheet(g, automatic_iso(g), LinearParts::tubes);
+    // The border edges within 15 cm of the crossing (the tubes' ends are farther).
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& t : tubes.triangles)
+        for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+    std::size_t near_crossing = 0, triangles_near = 0;
+    const auto near = [&](std::uint32_t v) {
+        return std::hypot(tubes.origin[0] + tubes.positions[v][0] - 0.5, tubes.origin[1] + tubes.positions[v][1] - 0.3,
+                          tubes.origin[2] + tubes.positions[v][2] - 0.5) < 0.15;
+    };
+    for (const auto& [edge, n] : uses) near_crossing += n == 1 && near(edge.first) && near(edge.second);
+    for (const auto& t : tubes.triangles) triangles_near += near(t[0]);
+    CHECK(triangles_near > 50);
+    CHECK(near_crossing == 0);
+}

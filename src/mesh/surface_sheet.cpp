@@ -76,6 +76,13 @@ struct Tube {
     double radius = 0;
 };
 
+// The distance from `at` to the tube's surface: negative inside.
+double surface_distance(const Tube& t, const Vec& at) {
+    const Vec r{at[0] - t.point[0], at[1] - t.point[1], at[2] - t.point[2]};
+    const double along = r[0] * t.direction[0] + r[1] * t.direction[1] + r[2] * t.direction[2];
+    return std::sqrt(std::max(0.0, r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - along * along)) - t.radius;
+}
+
 // The surface cells and their tangent planes.
 struct Planes {
     const CellGrid& grid;
@@ -86,6 +93,25 @@ struct Planes {
     std::vector<std::uint64_t> count;
     std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
     std::vector<Tube> tube;  // with LinearParts::tubes: per plane, its tube (radius 0: none)
+    // With LinearParts::tubes, per plane that is no tube but lies on tubes around it (a junction of
+    // a rail and a post, a tube's end): those tubes' cells, no_plane after the last.
+    std::vector<std::array<std::uint32_t, 4>> joins;
+
+    // Whether p's surface is a tube or a union of tubes rather than a plane.
+    bool tubular(std::uint32_t p) const { return !tube.empty() && (tube[p].radius > 0 || joins[p][0] != no_plane); }
+    // The distance from `at` to the surface of p's tube, or of the nearest of the tubes it joins,
+    // and that tube; no tube when p has none.
+    std::pair<double, const Tube*> tube_distance(std::uint32_t p, const Vec& at) const {
+        if (tube.empty()) return {0, nullptr};
+        if (tube[p].radius > 0) return {surface_distance(tube[p], at), &tube[p]};
+        std::pair<double, const Tube*> best{0, nullptr};
+        for (const std::uint32_t q : joins[p]) {
+            if (q == no_plane) break;
+            const double d = surface_distance(tube[q], at);
+            if (!best.second || d < best.first) best = {d, &tube[q]};
+        }
+        return best;
+    }
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const CellGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
@@ -280,6 +306,36 @@ void estimate_tubes(Planes& planes) {
         }
         planes.tube[p] = {mean, direction, std::max(radius, std::numbers::sqrt2 / 2 * h)};
     });
+    // The cells that are no tube but lie on or in tubes around them (their centroid inside a tube
+    // of the 5 x 5 x 5 cells, or within half a cell of its surface): where a rail meets a post the
+    // cells' spread is two lines, not one, and a tube's last cells are not along a line either.
+    // They take the union of those tubes (the nearest of them at each corner), up to four running
+    // different ways (over 30 degrees apart), nearest first; as planes, their crossings with the
+    // tubes would be refused and the junction left open.
+    planes.joins.assign(n, {no_plane, no_plane, no_plane, no_plane});
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+        if (planes.tube[p].radius > 0) return;
+        std::array<std::pair<double, std::uint32_t>, 125> on;
+        std::size_t count = 0;
+        const auto& c = planes.cell[p];
+        for (int dz = -2; dz <= 2; ++dz)
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const std::uint32_t q = planes.at(c[0] + dx, c[1] + dy, c[2] + dz);
+                    if (q == no_plane || !(planes.tube[q].radius > 0)) continue;
+                    const double off = surface_distance(planes.tube[q], planes.centroid[p]);
+                    if (off <= h / 2) on[count++] = {std::abs(off), q};
+                }
+        std::sort(on.begin(), on.begin() + static_cast<std::ptrdiff_t>(count));
+        std::size_t taken = 0;
+        for (std::size_t k = 0; k < count && taken < 4; ++k) {
+            const Vec& d = planes.tube[on[k].second].direction;
+            bool apart = true;
+            for (std::size_t j = 0; j < taken; ++j)
+                apart = apart && std::abs(dot(d, planes.tube[planes.joins[p][j]].direction)) < 0.866;
+            if (apart) planes.joins[p][taken++] = on[k].second;
+        }
+    });
 }
 
 // Neighbouring planes closer to parallel than this (the cosine of 25 degrees) continue one smooth
@@ -470,13 +526,8 @@ struct SheetField {
                              bits != 0; bits &= bits - 1)
                             consider(x - 2 + std::countr_zero(bits), cy, cz);
             if (nearest == no_plane) return {};
-            if (!planes.tube.empty() && planes.tube[nearest].radius > 0) { // the distance to the tube, out
-                const Tube& tube = planes.tube[nearest];
-                const Vec r{corner[0] - tube.point[0], corner[1] - tube.point[1], corner[2] - tube.point[2]};
-                const double along = dot(r, tube.direction);
-                const double f = std::sqrt(std::max(0.0, dot(r, r) - along * along)) - tube.radius;
+            if (const auto [f, tube] = planes.tube_distance(nearest, corner); tube) // to the tube, out
                 return {static_cast<float>(f), nearest, true, f < 0};
-            }
             const Vec& m = planes.centroid[nearest];
             const double f = dot(planes.normal[nearest], Vec{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]});
             return {static_cast<float>(f), nearest, true, f < 0};
@@ -533,10 +584,9 @@ struct SheetField {
     // rules tear more holes than they avoid stray triangles).
     bool accepts(const detail::FieldSample& a, const detail::FieldSample& b) const {
         if (a.source == b.source) return true;
-        if (!planes.tube.empty()) { // tubes meet tubes (their distances are both outward); not planes
-            const bool tube_a = planes.tube[a.source].radius > 0, tube_b = planes.tube[b.source].radius > 0;
-            if (tube_a || tube_b) return tube_a && tube_b;
-        }
+        // Tubes meet tubes (their distances are both outward), not planes.
+        if (planes.tubular(a.source) || planes.tubular(b.source))
+            return planes.tubular(a.source) && planes.tubular(b.source);
         const Vec& na = planes.normal[a.source];
         const Vec& nb = planes.normal[b.source];
         if (dot(na, nb) <= 0) return false;
@@ -547,8 +597,9 @@ struct SheetField {
     }
     // The surface's normal at `at` as cell p's plane or tube has it: a tube's points away from its axis.
     Vec normal_at(std::uint32_t p, const Vec& at) const {
-        if (planes.tube.empty() || !(planes.tube[p].radius > 0)) return planes.normal[p];
-        const Tube& tube = planes.tube[p];
+        const Tube* nearest = planes.tube_distance(p, at).second;
+        if (!nearest) return planes.normal[p];
+        const Tube& tube = *nearest;
         const Vec r{at[0] - tube.point[0], at[1] - tube.point[1], at[2] - tube.point[2]};
         const double along = dot(r, tube.direction);
         const Vec out{r[0] - along * tube.direction[0], r[1] - along * tube.direction[1],
