@@ -27,14 +27,15 @@ namespace lasmesh {
 // With LinearParts::tubes, a surface cell whose surface cells around it (5 x 5 x 5) lie along a
 // line is on a tube (a rail, a post, a thin pipe): its samples are the distance to a cylinder round
 // that line, of the radius the cells' centroids give (at least the lattice's smallest: half a
-// cell's diagonal), and crossings join tubes to tubes only. For grids fine enough that such parts
-// are a few cells across (the thin parts' grid of half the cell); at coarser cells a rail is a
-// line of single cells, and its tube would be the lattice's smallest, not its own.
-// A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its
-// points instead of two sheets around it. The sheets are open where the surface ends; their
-// triangles face along the oriented normals; vertex normals are the planes' normals and vertex
-// colours the cells' mean colours, both interpolated along the edge. Each connected part of the
-// result is turned, if need be, to face the outside.
+// cell's diagonal); a cell on or in tubes around it without being one (where a rail meets a post, a
+// tube's end) samples their union; crossings join tubes to tubes only. For grids fine enough that
+// such parts are a few cells across (the thin parts' grid of half the cell); at coarser cells a
+// rail is a line of single cells, and its tube would be the lattice's smallest, not its own.
+// A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its points
+// instead of two sheets around it. The sheets are open where the surface ends; their triangles face
+// along the oriented normals; vertex normals are the planes' normals (a tube's: away from its axis)
+// and vertex colours the cells' mean colours, both interpolated along the edge. Each connected part
+// of the result is turned, if need be, to face the outside.
 enum class LinearParts { planes, tubes };
 Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes);
 // The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
