@@ -21,6 +21,11 @@ using namespace lasmesh;
 
 namespace {
 
+// The next number of a 64-bit linear congruential sequence, uniform in [0, 1).
+double uniform(std::uint64_t& state) {
+    return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
+}
+
 lasgen::GeneratedPoint point(double x, double y, double z) {
     lasgen::GeneratedPoint p;
     p.position = {x, y, z};
@@ -203,9 +208,7 @@ TEST_CASE("boxes on a deck face outward, their walls too, whichever way their ne
     }
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 11;
-    auto next = [&] {
-        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
-    };
+    auto next = [&] { return uniform(state); };
     struct Box {
         double x0, y0, x1, y1, top;
     };
@@ -276,9 +279,7 @@ TEST_CASE("a torus faces outward: its inside is enclosed, though its normals do 
     const double big = 2, small = 0.6;
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 5;
-    auto next = [&] {
-        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
-    };
+    auto next = [&] { return uniform(state); };
     while (points.size() < 150000) {
         const double u = 2 * std::numbers::pi * next(), t = 2 * std::numbers::pi * next();
         if (next() * (big + small) > big + small * std::cos(t)) continue; // uniform by area
@@ -319,9 +320,7 @@ TEST_CASE("thin parts at a fine grid: a rail is a tube of its own radius, one th
     };
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 11;
-    auto next = [&] {
-        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
-    };
+    auto next = [&] { return uniform(state); };
     for (int rail = 0; rail < 2; ++rail)
         for (int i = 0; i < 60000; ++i) {
             const double x = 0.1 + length * next(), angle = 2 * std::numbers::pi * next();
@@ -383,9 +382,7 @@ TEST_CASE("thin parts at a fine grid: a rail crossing a post is closed where the
     const double cell = 0.03, radius = 0.025;
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 7;
-    auto next = [&] {
-        return double((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) / double(1ull << 53);
-    };
+    auto next = [&] { return uniform(state); };
     while (points.size() < 80000) {
         const double s = 0.1 + 0.8 * next(), angle = 2 * std::numbers::pi * next();
         const double u = radius * std::cos(angle), v = radius * std::sin(angle);

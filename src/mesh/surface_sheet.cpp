@@ -130,16 +130,22 @@ struct Planes {
         const std::uint64_t r = grid.record_of(x, y, z);
         return r == CellGrid::no_record ? no_plane : of_record[r];
     }
+    // The planes of the cells within `reach` of p's on every axis, p's own among them, z slowest.
     template <class Visit>
-    void for_each_neighbour(std::uint32_t p, Visit visit) const {
+    void for_each_within(std::uint32_t p, int reach, Visit visit) const {
         const auto& c = cell[p];
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    if (dx == 0 && dy == 0 && dz == 0) continue;
+        for (int dz = -reach; dz <= reach; ++dz)
+            for (int dy = -reach; dy <= reach; ++dy)
+                for (int dx = -reach; dx <= reach; ++dx) {
                     const std::uint32_t q = at(c[0] + dx, c[1] + dy, c[2] + dz);
                     if (q != no_plane) visit(q);
                 }
+    }
+    template <class Visit>
+    void for_each_neighbour(std::uint32_t p, Visit visit) const {
+        for_each_within(p, 1, [&](std::uint32_t q) {
+            if (q != p) visit(q);
+        });
     }
 };
 
@@ -261,13 +267,7 @@ void estimate_tubes(Planes& planes) {
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
         std::array<std::uint32_t, 125> near;
         std::size_t count = 0;
-        const auto& c = planes.cell[p];
-        for (int dz = -2; dz <= 2; ++dz)
-            for (int dy = -2; dy <= 2; ++dy)
-                for (int dx = -2; dx <= 2; ++dx) {
-                    const std::uint32_t q = planes.at(c[0] + dx, c[1] + dy, c[2] + dz);
-                    if (q != no_plane) near[count++] = q;
-                }
+        planes.for_each_within(static_cast<std::uint32_t>(p), 2, [&](std::uint32_t q) { near[count++] = q; });
         if (count < 4) return;
         double total = 0;
         Vec mean{};
@@ -287,14 +287,9 @@ void estimate_tubes(Planes& planes) {
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) negated[i][j] = -covariance[i][j];
         const Vec direction = plane_normal(negated); // the smallest eigenvector of -C: C's largest
-        double across = 0;                           // the count-weighted squared distances from the axis
-        for (std::size_t k = 0; k < count; ++k) {
-            const Vec& q = planes.centroid[near[k]];
-            const Vec r{q[0] - mean[0], q[1] - mean[1], q[2] - mean[2]};
-            const double a = dot(r, direction);
-            across += static_cast<double>(planes.count[near[k]]) * (dot(r, r) - a * a);
-        }
         const std::array<double, 3> spread = symmetric_eigenvalues(covariance); // largest first
+        // The count-weighted squared distances from the axis: the spread across it.
+        const double across = spread[1] + spread[2];
         const bool long_and_round =
             spread[1] < 0.5 * spread[0] && (spread[2] > 0.1 * spread[1] || spread[1] < 0.25 * h * h * total);
         if (!long_and_round || across > 4 * h * h * total) return;
@@ -317,15 +312,11 @@ void estimate_tubes(Planes& planes) {
         if (planes.tube[p].radius > 0) return;
         std::array<std::pair<double, std::uint32_t>, 125> on;
         std::size_t count = 0;
-        const auto& c = planes.cell[p];
-        for (int dz = -2; dz <= 2; ++dz)
-            for (int dy = -2; dy <= 2; ++dy)
-                for (int dx = -2; dx <= 2; ++dx) {
-                    const std::uint32_t q = planes.at(c[0] + dx, c[1] + dy, c[2] + dz);
-                    if (q == no_plane || !(planes.tube[q].radius > 0)) continue;
-                    const double off = surface_distance(planes.tube[q], planes.centroid[p]);
-                    if (off <= h / 2) on[count++] = {std::abs(off), q};
-                }
+        planes.for_each_within(static_cast<std::uint32_t>(p), 2, [&](std::uint32_t q) {
+            if (!(planes.tube[q].radius > 0)) return;
+            const double off = surface_distance(planes.tube[q], planes.centroid[p]);
+            if (off <= h / 2) on[count++] = {std::abs(off), q};
+        });
         std::sort(on.begin(), on.begin() + static_cast<std::ptrdiff_t>(count));
         std::size_t taken = 0;
         for (std::size_t k = 0; k < count && taken < 4; ++k) {
