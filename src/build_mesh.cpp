@@ -190,6 +190,11 @@ constexpr double too_coarse_points_per_cell = 100 * auto_grid_most_points_per_ce
     throw Error(ErrorKind::usage, what, option);
 }
 
+// A file the thin parts' second read can open again: not standard input, not a pipe.
+bool readable_again(const std::string& input) {
+    return input != "-" && std::filesystem::is_regular_file(input);
+}
+
 bool finite_at_least_zero(double value) {
     return std::isfinite(value) && value >= 0;
 }
@@ -201,9 +206,9 @@ void check_read_options(const std::vector<std::string>& inputs, const BuildOptio
     if (inputs.empty()) usage_error("inputs", "no input given: nothing to mesh");
     if (o.scan_bounds)
         for (const std::string& input : inputs) check_rereadable(input);
-    if (o.refine_thin)
+    if (o.refine_thin == ThinRefinement::always)
         for (const std::string& input : inputs)
-            if (input == "-" || !std::filesystem::is_regular_file(input))
+            if (!readable_again(input))
                 usage_error("refine_thin", "refining thin parts reads the inputs twice, so it needs regular files, "
                                            "not \"" +
                                                input + "\": save the stream to a file");
@@ -212,7 +217,7 @@ void check_read_options(const std::vector<std::string>& inputs, const BuildOptio
 // The checks on what meshing and writing take; returns each output's format.
 std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& inputs, const BuildOptions& o) {
     if (o.outputs.empty() && !o.keep_mesh) usage_error("outputs", "no output requested: nothing to do");
-    if (o.refine_thin && o.surface != SurfaceKind::sheet)
+    if (o.refine_thin == ThinRefinement::always && o.surface != SurfaceKind::sheet)
         usage_error("refine_thin", "thin parts are refined for the sheet surface only: the closed surface wraps "
                                    "the occupied cells whatever their size");
     std::vector<MeshFormat> formats;
@@ -440,6 +445,27 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
     }
     fit_grid_to_points(grid, o, reader_warnings);
     report_grid(grid, survey, reader_warnings, note_outputs, o, seconds_since(start), watch, a, r);
+}
+
+bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, const CellGrid& grid,
+                        RunReport& r) {
+    if (o.refine_thin != ThinRefinement::automatic) return o.refine_thin == ThinRefinement::always;
+    if (o.surface != SurfaceKind::sheet) {
+        r.thin_unrefined = "the closed surface wraps the occupied cells whatever their size";
+        return false;
+    }
+    for (const std::string& input : inputs)
+        if (!readable_again(input)) {
+            r.thin_unrefined = (input == "-" ? std::string("standard input") : "\"" + input + "\"") +
+                               " cannot be read twice: save it to a file to refine them";
+            return false;
+        }
+    if (const std::uint64_t median = grid.median_count(); median < thin_parts_min_median) {
+        r.thin_unrefined = "the points are too sparse for half cells (a median of " + std::to_string(median) +
+                           " in an occupied cell, " + std::to_string(thin_parts_min_median) + " needed)";
+        return false;
+    }
+    return true;
 }
 
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
@@ -747,7 +773,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     RunReport r;
     accumulate_survey(inputs, o, true, watch, a, r);
     std::optional<Refinement> refined;
-    if (o.refine_thin) {
+    if (refines_thin_parts(inputs, o, a.grid, r)) {
         refined = refine_thin_parts(inputs, o, a.grid, watch, r);
         r.read_accumulate += r.thin_read;
     }
@@ -776,7 +802,7 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
     if (!same_read_options(a.read_options, o))
         usage_error("grid", "these options read the inputs differently (grid, bounds, CRS, device or memory) from "
                             "the accumulation they are meant to mesh: accumulate the inputs again with them");
-    if (o.refine_thin) check_read_options(accumulated.inputs, o); // files, read again
+    if (o.refine_thin == ThinRefinement::always) check_read_options(accumulated.inputs, o); // files, read again
     const std::vector<MeshFormat> formats = check_mesh_options(accumulated.inputs, o);
     BuildObserver& watch = observer ? *observer : silent;
     std::optional<tbb::global_control> thread_limit;
@@ -785,7 +811,7 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
     add_placement_notes(o.outputs, a.crs, r);
     // The thin parts: those read for this iso already, else read now and kept for the next mesh.
     std::shared_ptr<const Accumulation::ThinParts> thin;
-    if (o.refine_thin) {
+    if (refines_thin_parts(accumulated.inputs, o, a.grid, r)) {
         const double iso = o.iso ? *o.iso : automatic_iso(a.grid);
         {
             const std::lock_guard lock(a.surface_mutex);

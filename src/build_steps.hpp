@@ -42,7 +42,7 @@ struct Accumulation {
         SurfaceKind surface{};
         VertexPlacement placement{};
         MinPiece min_piece;
-        bool refine_thin = false;
+        ThinRefinement refine_thin{};
         std::size_t extracted = 0; // triangles before small pieces were removed
         PieceCount pieces;
         Mesh mesh;
@@ -106,6 +106,11 @@ void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<s
 // Reads the inputs and sums their points into `a.grid`, then report_grid.
 void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
                        BuildObserver& watch, Accumulation& a, RunReport& r);
+
+// Whether the thin parts of `grid` are meshed at half the cell (BuildOptions::refine_thin); when
+// automatic and not, r.thin_unrefined says why.
+bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, const CellGrid& grid,
+                        RunReport& r);
 
 // Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
 // near them; nothing when there are none. Sets r.thin_cells and r.thin_read, or r.thin_unrefined.

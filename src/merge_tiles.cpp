@@ -41,7 +41,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     BuildObserver& watch = observer ? *observer : silent;
     const std::vector<std::string> paths = planned_paths(plan);
     const BuildOptions o = planned_options(plan, options);
-    if (o.refine_thin) check_read_options(paths, o); // the inputs are read again for the thin parts
+    if (o.refine_thin == ThinRefinement::always) check_read_options(paths, o); // the inputs are read again
     const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
@@ -165,7 +165,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     // Thin parts need the whole grid to be found, so the merge reads the points near them itself,
     // from every input, as one machine reads them a second time.
     std::optional<Refinement> refined;
-    if (o.refine_thin) {
+    if (refines_thin_parts(paths, o, grid, r)) {
         refined = refine_thin_parts(paths, o, grid, watch, r);
         r.read_accumulate += r.thin_read;
     }

@@ -169,10 +169,41 @@ TEST_CASE("build_mesh: an empty mesh is an error, and nothing is written") {
     for (const char* name : {"e.ply", "e.glb", "e.json"}) CHECK(!std::filesystem::exists(f.dir.file(name)));
 }
 
+TEST_CASE("refine_thin by default: refined where the occupied cells hold a median of 12 points or more") {
+    Fixture f;
+    const auto mesh = [&](int cells, ThinRefinement refine, SurfaceKind surface = SurfaceKind::sheet) {
+        BuildOptions o = f.options({"m.ply"});
+        o.grid = GridRequest::longest(cells), o.refine_thin = refine, o.surface = surface;
+        const BuildResult result = build_mesh(f.input, o);
+        return std::pair{result.report, test::read_file(f.dir.file("m.ply"))};
+    };
+    // 64 cells: dense enough, refined as when asked; 160: too sparse, one cell size, as when not.
+    const auto [dense, dense_bytes] = mesh(64, ThinRefinement::automatic);
+    CHECK(dense.median_count >= 12);
+    CHECK(dense.thin_cells > 0);
+    CHECK(dense_bytes == mesh(64, ThinRefinement::always).second);
+    CHECK(dense_bytes != mesh(64, ThinRefinement::never).second);
+    const auto [sparse, sparse_bytes] = mesh(160, ThinRefinement::automatic);
+    CHECK(sparse.median_count < 12);
+    CHECK(sparse.thin_cells == 0);
+    CHECK(sparse.thin_unrefined == "the points are too sparse for half cells (a median of " +
+                                       std::to_string(sparse.median_count) + " in an occupied cell, 12 needed)");
+    CHECK(sparse_bytes == mesh(160, ThinRefinement::never).second);
+    CHECK(sparse_bytes != mesh(160, ThinRefinement::always).second);
+    // The closed surface is not refined by default, and says so; asked for, it is an error.
+    const auto [closed, closed_bytes] = mesh(64, ThinRefinement::automatic, SurfaceKind::closed);
+    CHECK(closed.thin_cells == 0);
+    CHECK(contains(closed.thin_unrefined, "the closed surface"));
+    CHECK(closed_bytes == mesh(64, ThinRefinement::never, SurfaceKind::closed).second);
+    BuildOptions asked = f.options({"m.ply"});
+    asked.refine_thin = ThinRefinement::always, asked.surface = SurfaceKind::closed;
+    CHECK(error_of(f.input, asked).option() == "refine_thin");
+}
+
 TEST_CASE("accumulate_inputs with refine_thin: one call's bytes, the thin parts read again once an iso") {
     Fixture f;
     BuildOptions o = f.options({});
-    o.refine_thin = true;
+    o.refine_thin = ThinRefinement::always;
     const AccumulatedInputs read = accumulate_inputs({f.input}, o);
     struct ThinReads : BuildObserver {
         int reads = 0;
@@ -181,14 +212,16 @@ TEST_CASE("accumulate_inputs with refine_thin: one call's bytes, the thin parts 
         }
     };
     struct Variant {
-        bool refine;
+        ThinRefinement refine;
         double simplify;
         std::optional<double> iso;
     };
     // The second re-uses the first's thin parts (the same iso); the third reads them for its
     // own; the fourth, unrefined, must not start from a refined surface kept from the third.
-    const std::vector<Variant> variants = {
-        {true, 0.5, std::nullopt}, {true, 0.25, std::nullopt}, {true, 0.25, 2.0}, {false, 0.25, 2.0}};
+    const std::vector<Variant> variants = {{ThinRefinement::always, 0.5, std::nullopt},
+                                           {ThinRefinement::always, 0.25, std::nullopt},
+                                           {ThinRefinement::always, 0.25, 2.0},
+                                           {ThinRefinement::never, 0.25, 2.0}};
     const std::vector<int> reads_after = {1, 1, 2, 2};
     ThinReads watch;
     std::vector<test::Bytes> again;
@@ -219,6 +252,7 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
     const std::string input = f.dir.file("moved.las");
     std::filesystem::copy_file(f.input, input);
     BuildOptions o = f.options({});
+    o.refine_thin = ThinRefinement::never; // refined, the thin parts are read again (above)
     const AccumulatedInputs read = accumulate_inputs({input}, o);
     CHECK(read.report.points_read == 60000);
     CHECK(read.report.triangles == 0); // nothing meshed yet
@@ -244,6 +278,7 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         m.simplify.error = variants[k].simplify;
         m.surface = variants[k].surface;
         m.iso = variants[k].iso;
+        m.refine_thin = o.refine_thin;
         Details watch;
         const BuildResult result = build_mesh(read, m, &watch);
         details.push_back(watch.text);
@@ -258,6 +293,7 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         m.simplify.error = variants[k].simplify;
         m.surface = variants[k].surface;
         m.iso = variants[k].iso;
+        m.refine_thin = o.refine_thin;
         build_mesh(input, m);
         std::size_t i = 0;
         for (const char* name : {"once.ply", "once.glb", "once.html"})

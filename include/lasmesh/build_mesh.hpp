@@ -46,6 +46,17 @@
 
 namespace lasmesh {
 
+// Thin parts (rails, posts, cables: thinner than about a cell in two directions) meshed again at
+// half the cell, from a second read of the points near them; the sheet only.
+//   automatic  when the points are dense enough for half cells: the occupied cells hold a median
+//              of at least 12 points (a surface cell of half the size then holds about 3, the
+//              fewest a plane or a tube through them needs; sparse aerial data fits worse refined),
+//              and every input is a file (standard input cannot be read twice). Otherwise the
+//              report's thin_unrefined says why not.
+//   always     whatever the density; an Error (usage) for standard input or the closed surface.
+//   never      one cell size everywhere.
+enum class ThinRefinement { automatic, always, never };
+
 // How far simplification may move the surface: a length in the file's units, or in cells.
 struct SimplifyRequest {
     // Default: half a cell. On the 5M-point deck's sheets it keeps 1/5 (grid 1024) to 1/8
@@ -74,9 +85,8 @@ struct BuildOptions {
     MinPiece min_piece;                                   // default: 5% of the mesh diagonal
     SimplifyRequest simplify;                             // default: half a cell (see SimplifyRequest)
     bool normals = true;                                  // per-vertex normals in every output
-    // Thin parts (rails, posts, cables: thinner than about a cell in two directions) meshed
-    // again at half the cell, from a second read of the inputs (files only; the sheet only).
-    bool refine_thin = false;
+    // Thin parts meshed again at half the cell: by default where the points are dense enough.
+    ThinRefinement refine_thin = ThinRefinement::automatic;
     std::string device = "auto";   // "auto" (a GPU if any), an index or part of a name
     int threads = 0;               // extraction threads; 0: all cores
     std::uint64_t slice_bytes = 0; // largest upload to the device; 0: 16 MiB
@@ -116,11 +126,11 @@ struct RunReport {
     std::uint64_t host_grid_bytes = 0; // the grid as the host keeps it: occupied cells only
     PieceCount pieces;
     SimplifyReport simplify; // triangles before and after, the bound in file units, seconds
-    // With refine_thin: the cells meshed at half the cell (thin parts and the cells next to
+    // Thin parts refined: the cells meshed at half the cell (thin parts and the cells next to
     // them), and the seconds their points' second read took (counted in read_accumulate).
     std::uint64_t thin_cells = 0;
     double thin_read = 0;
-    std::string thin_unrefined; // with refine_thin and no brick refined: why ("no thin parts found")
+    std::string thin_unrefined; // no cell refined unless never asked: why ("no thin parts found")
     std::size_t vertices = 0, triangles = 0;
     bool colored = false, normals = false;
     Vec3 origin{}; // output positions are relative to it
@@ -197,7 +207,7 @@ AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, cons
 // writes, without reading the inputs again. The grid is copied (the accumulation stays whole), so
 // this needs its host_grid_bytes once more. The accumulation also keeps the last surface
 // extracted (before simplification): a call that changes only the simplification, the normals
-// or the outputs starts from it, without extracting again. With refine_thin the inputs (files)
+// or the outputs starts from it, without extracting again. Refining thin parts, the inputs (files)
 // are read again for the points near the thin parts, once for each iso: the accumulation keeps
 // the last iso's. Calls may come from several threads. Throws Error (usage)
 // when `options` read differently from the options the inputs were accumulated with.

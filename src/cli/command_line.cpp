@@ -34,6 +34,7 @@ std::string command_line(const MeshOptions& o) {
     option("--crs", o.crs, d.crs);
     flag("--skip-bad-inputs", o.skip_bad_inputs);
     flag("--refine-thin", o.refine_thin);
+    flag("--no-refine-thin", o.no_refine_thin);
     option("--grid", o.grid.grid, d.grid.grid);
     if (o.grid.voxel) word("--voxel"), word(format_double(*o.grid.voxel));
     option("--bounds", o.grid.bounds, d.grid.bounds);

@@ -121,9 +121,19 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
                  "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     add_meshing_options(app, o, true);
-    app.add_flag("--refine-thin", o.refine_thin,
-                 "Mesh thin parts (rails, posts, cables: thinner than about a cell in two directions) at half the "
-                 "cell, from a second read of the input files; the sheet only");
+    add_thin_parts_options(app, o, "from a second read of the input files");
+}
+
+void add_thin_parts_options(CLI::App& app, MeshOptions& o, const std::string& reading) {
+    CLI::Option* refine =
+        app.add_flag("--refine-thin", o.refine_thin,
+                     "Mesh thin parts (rails, posts, cables: thinner than about a cell in two directions) at half "
+                     "the cell, " +
+                         reading +
+                         ", however sparse the points (by default: when the occupied cells hold a median of 12 "
+                         "points or more and the inputs are files); the sheet only");
+    app.add_flag("--no-refine-thin", o.no_refine_thin, "One cell size everywhere, however dense the points")
+        ->excludes(refine);
 }
 
 BuildOptions build_options(const MeshOptions& o, bool need_output) {
@@ -141,7 +151,9 @@ BuildOptions build_options(const MeshOptions& o, bool need_output) {
         b.outputs.push_back(preview);
     }
     b.report = o.report;
-    b.refine_thin = o.refine_thin;
+    b.refine_thin = o.refine_thin      ? ThinRefinement::always
+                    : o.no_refine_thin ? ThinRefinement::never
+                                       : ThinRefinement::automatic;
     const AccumulateOptions accumulate = accumulate_options(o.grid);
     b.grid = accumulate.grid;
     b.bounds = accumulate.bounds;

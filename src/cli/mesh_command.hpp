@@ -17,7 +17,8 @@ struct MeshOptions {
     std::vector<std::string> inputs;
     std::string inputs_list;          // --inputs LIST: one path a line
     bool skip_bad_inputs = false;     // --skip-bad-inputs
-    bool refine_thin = false;         // --refine-thin
+    bool refine_thin = false;         // --refine-thin: whatever the density
+    bool no_refine_thin = false;      // --no-refine-thin (neither: when the points are dense enough)
     std::string crs;                  // --crs
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
@@ -41,6 +42,8 @@ struct MeshOptions {
 void add_mesh_options(CLI::App& app, MeshOptions& options);
 // The options after the inputs': -o, the grid's (when `with_grid`), then --iso to --verbose.
 void add_meshing_options(CLI::App& app, MeshOptions& options, bool with_grid);
+// --refine-thin and --no-refine-thin; `reading` says how the command reads the points again.
+void add_thin_parts_options(CLI::App& app, MeshOptions& options, const std::string& reading);
 // The option text converted into the library's options, which the library checks (before
 // reading); throws Error (usage) without an output when `need_output`.
 BuildOptions build_options(const MeshOptions& options, bool need_output = true);

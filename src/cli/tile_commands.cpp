@@ -72,9 +72,9 @@ CLI::App* add_merge_command(CLI::App& app, MergeOptions& o) {
                   "  lasmesh merge site.plan.json -o site.glb --simplify 0.25cell");
     merge->add_option("PLAN", o.plan, "The plan whose tiles have all run")->type_name("PLAN.json")->required();
     add_meshing_options(*merge, o.mesh, false);
-    merge->add_flag("--refine-thin", o.mesh.refine_thin,
-                    "Mesh thin parts at half the cell, as the main job does: the merge reads every input again "
-                    "for the points near them (the tiles hold the grid's cells only)");
+    add_thin_parts_options(*merge, o.mesh,
+                           "as the main job does: the merge reads every input again for the points near them (the "
+                           "tiles hold the grid's cells only)");
     return merge;
 }
 

@@ -192,7 +192,7 @@ check "--skip-bad-inputs: the summary names it" contains "$dir/cut.txt" "^skippe
 # cell; the parts with no thin part near stay as they were. Measured against the scene's own
 # primitives.
 "$lasgen" --scene deck --points 2000000 -o "$dir/deck.las"
-"$lasmesh" "$dir/deck.las" -o "$dir/plain.ply" -q
+"$lasmesh" "$dir/deck.las" -o "$dir/plain.ply" -v 2> "$dir/plain.txt"
 "$lasmesh" "$dir/deck.las" -o "$dir/thin.ply" --refine-thin --report "$dir/thin.json" -v 2> "$dir/thin.txt"
 "$lasgen" --scene deck --measure "$dir/plain.ply" --samples 200000 --json "$dir/plain.truth.json" > /dev/null
 "$lasgen" --scene deck --measure "$dir/thin.ply" --samples 200000 --json "$dir/thin.truth.json" > /dev/null
@@ -256,5 +256,24 @@ check "... and the report" python3 -c "
 import json, sys; t = json.load(open(sys.argv[1]))['thin_parts']
 assert t == {'cells': 0, 'unrefined': 'no thin parts found'}, t" "$dir/thin-sphere.json"
 check "... and the mesh is the plain run's" cmp -s "$dir/thin-sphere.ply" "$dir/sr.ply"
+
+# By default thin parts are refined when the points are dense enough for half cells: at the
+# automatic grid the 2M deck's occupied cells hold a median of 7 points, too few (one cell size,
+# and the summary says why); at 200 cells, many more (refined, as when asked). Standard input
+# cannot be read twice: one cell size, and why.
+"$lasmesh" "$dir/deck.las" -o "$dir/one.ply" --no-refine-thin -q
+check "by default, sparse for half cells: one cell size" cmp -s "$dir/plain.ply" "$dir/one.ply"
+check "... which the summary says" contains "$dir/plain.txt" "^thin parts     none refined: the points are too sparse for half cells (a median of 7 in an occupied cell, 12 needed)"
+"$lasmesh" "$dir/deck.las" --grid 200 -o "$dir/coarse.ply" -v 2> "$dir/coarse.txt"
+"$lasmesh" "$dir/deck.las" --grid 200 -o "$dir/coarse-thin.ply" --refine-thin -q
+"$lasmesh" "$dir/deck.las" --grid 200 -o "$dir/coarse-one.ply" --no-refine-thin -q
+check "by default, dense enough at 200 cells: refined as when asked" cmp -s "$dir/coarse.ply" "$dir/coarse-thin.ply"
+check "... which the summary says" contains "$dir/coarse.txt" "^thin parts     [1-9][0-9]* cells meshed at cells of"
+check "... and --no-refine-thin keeps one cell size" bash -c "! cmp -s '$dir/coarse.ply' '$dir/coarse-one.ply'"
+"$lasmesh" - --grid 200 -o "$dir/coarse-stdin.ply" -v < "$dir/deck.las" 2> "$dir/coarse-stdin.txt"; rc=$?
+check "by default from standard input: exit 0 ($rc), one cell size" cmp -s "$dir/coarse-stdin.ply" "$dir/coarse-one.ply"
+check "... which the summary says" contains "$dir/coarse-stdin.txt" "^thin parts     none refined: standard input cannot be read twice"
+"$lasmesh" "$dir/deck.las" -o "$dir/both.ply" --refine-thin --no-refine-thin 2> "$dir/err.txt"; rc=$?
+check "--refine-thin with --no-refine-thin: refused (exit $rc)" test "$rc" -eq 1 -a ! -e "$dir/both.ply"
 
 finish "cli mesh"
