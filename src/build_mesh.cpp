@@ -454,6 +454,10 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
         r.thin_unrefined = "the closed surface wraps the occupied cells whatever their size";
         return false;
     }
+    if (o.grid.kind != GridRequest::Kind::automatic) {
+        r.thin_unrefined = "a grid was asked for: its cell everywhere, unless thin parts are asked to be refined";
+        return false;
+    }
     for (const std::string& input : inputs)
         if (!readable_again(input)) {
             r.thin_unrefined = (input == "-" ? std::string("standard input") : "\"" + input + "\"") +

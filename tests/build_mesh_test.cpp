@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include "build_steps.hpp"
+#include "grid/cell_sums.hpp"
 #include "test_support.hpp"
 
 #include <cstdio>
@@ -169,32 +171,58 @@ TEST_CASE("build_mesh: an empty mesh is an error, and nothing is written") {
     for (const char* name : {"e.ply", "e.glb", "e.json"}) CHECK(!std::filesystem::exists(f.dir.file(name)));
 }
 
-TEST_CASE("refine_thin by default: refined where the occupied cells hold a median of 12 points or more") {
+TEST_CASE("refine_thin by default: with the automatic grid, from files, when its cells hold a median of 12 or more") {
     Fixture f;
-    const auto mesh = [&](int cells, ThinRefinement refine, SurfaceKind surface = SurfaceKind::sheet) {
+    CellGrid grid;
+    grid.cells.resize(101);
+    for (std::size_t k = 0; k < grid.cells.size(); ++k) grid.cells[k].count = k < 50 ? 11 : 12; // median 12
+    const auto decide = [&](const std::string& input, const BuildOptions& o) {
+        RunReport r;
+        const bool refined = refines_thin_parts({f.input, input}, o, grid, r);
+        return std::pair{refined, r.thin_unrefined};
+    };
+    const BuildOptions defaults;
+    CHECK(decide(f.input, defaults) == std::pair{true, std::string()});
+    CHECK(!decide("-", defaults).first);
+    CHECK(decide("-", defaults).second == "standard input cannot be read twice: save it to a file to refine them");
+    BuildOptions closed;
+    closed.surface = SurfaceKind::closed;
+    CHECK(!decide(f.input, closed).first);
+    CHECK(contains(decide(f.input, closed).second, "the closed surface"));
+    BuildOptions given;
+    given.grid = GridRequest::longest(64);
+    CHECK(!decide(f.input, given).first);
+    CHECK(contains(decide(f.input, given).second, "a grid was asked for"));
+    given.refine_thin = ThinRefinement::always;
+    CHECK(decide(f.input, given) == std::pair{true, std::string()});
+    BuildOptions never;
+    never.refine_thin = ThinRefinement::never;
+    CHECK(decide(f.input, never) == std::pair{false, std::string()});
+    grid.cells[50].count = 11; // median 11
+    CHECK(!decide(f.input, defaults).first);
+    CHECK(decide(f.input, defaults).second ==
+          "the points are too sparse for half cells (a median of 11 in an occupied cell, 12 needed)");
+}
+
+TEST_CASE("refine_thin by default: a grid asked for meshes at its cell, the report says why; asked for, refined") {
+    Fixture f;
+    const auto mesh = [&](ThinRefinement refine, SurfaceKind surface = SurfaceKind::sheet) {
         BuildOptions o = f.options({"m.ply"});
-        o.grid = GridRequest::longest(cells), o.refine_thin = refine, o.surface = surface;
+        o.refine_thin = refine, o.surface = surface;
         const BuildResult result = build_mesh(f.input, o);
         return std::pair{result.report, test::read_file(f.dir.file("m.ply"))};
     };
-    // 64 cells: dense enough, refined as when asked; 160: too sparse, one cell size, as when not.
-    const auto [dense, dense_bytes] = mesh(64, ThinRefinement::automatic);
-    CHECK(dense.median_count >= 12);
-    CHECK(dense.thin_cells > 0);
-    CHECK(dense_bytes == mesh(64, ThinRefinement::always).second);
-    CHECK(dense_bytes != mesh(64, ThinRefinement::never).second);
-    const auto [sparse, sparse_bytes] = mesh(160, ThinRefinement::automatic);
-    CHECK(sparse.median_count < 12);
-    CHECK(sparse.thin_cells == 0);
-    CHECK(sparse.thin_unrefined == "the points are too sparse for half cells (a median of " +
-                                       std::to_string(sparse.median_count) + " in an occupied cell, 12 needed)");
-    CHECK(sparse_bytes == mesh(160, ThinRefinement::never).second);
-    CHECK(sparse_bytes != mesh(160, ThinRefinement::always).second);
-    // The closed surface is not refined by default, and says so; asked for, it is an error.
-    const auto [closed, closed_bytes] = mesh(64, ThinRefinement::automatic, SurfaceKind::closed);
-    CHECK(closed.thin_cells == 0);
+    const auto [given, given_bytes] = mesh(ThinRefinement::automatic);
+    CHECK(given.median_count >= 12); // dense enough: it is the grid asked for that keeps one cell
+    CHECK(given.thin_cells == 0);
+    CHECK(contains(given.thin_unrefined, "a grid was asked for"));
+    CHECK(given_bytes == mesh(ThinRefinement::never).second);
+    const auto [refined, refined_bytes] = mesh(ThinRefinement::always);
+    CHECK(refined.thin_cells > 0);
+    CHECK(refined_bytes != given_bytes);
+    const auto [closed, closed_bytes] = mesh(ThinRefinement::automatic, SurfaceKind::closed);
     CHECK(contains(closed.thin_unrefined, "the closed surface"));
-    CHECK(closed_bytes == mesh(64, ThinRefinement::never, SurfaceKind::closed).second);
+    CHECK(closed_bytes == mesh(ThinRefinement::never, SurfaceKind::closed).second);
     BuildOptions asked = f.options({"m.ply"});
     asked.refine_thin = ThinRefinement::always, asked.surface = SurfaceKind::closed;
     CHECK(error_of(f.input, asked).option() == "refine_thin");
@@ -252,7 +280,6 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
     const std::string input = f.dir.file("moved.las");
     std::filesystem::copy_file(f.input, input);
     BuildOptions o = f.options({});
-    o.refine_thin = ThinRefinement::never; // refined, the thin parts are read again (above)
     const AccumulatedInputs read = accumulate_inputs({input}, o);
     CHECK(read.report.points_read == 60000);
     CHECK(read.report.triangles == 0); // nothing meshed yet
@@ -278,7 +305,6 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         m.simplify.error = variants[k].simplify;
         m.surface = variants[k].surface;
         m.iso = variants[k].iso;
-        m.refine_thin = o.refine_thin;
         Details watch;
         const BuildResult result = build_mesh(read, m, &watch);
         details.push_back(watch.text);
@@ -293,7 +319,6 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
         m.simplify.error = variants[k].simplify;
         m.surface = variants[k].surface;
         m.iso = variants[k].iso;
-        m.refine_thin = o.refine_thin;
         build_mesh(input, m);
         std::size_t i = 0;
         for (const char* name : {"once.ply", "once.glb", "once.html"})

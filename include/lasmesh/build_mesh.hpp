@@ -16,7 +16,9 @@
 // The stages, in order, each in its own folder of src/ and include/lasmesh/:
 //   read     the input stream (file, pipe, gzip/bzip2/xz/zstd), the LAS header, the records
 //   grid     the points counted into a sparse grid of cubic cells on an OpenCL device: per cell
-//            the count and the sums of colours and positions
+//            the count and the sums of colours and positions; where the points are denser than
+//            the automatic grid, those near thin parts counted again at half the cell
+//            (ThinRefinement)
 //   mesh     one sheet through the points of each surface (or a closed surface), then small
 //            isolated pieces removed, then the mesh simplified to an error bound (when asked),
 //            then vertex normals (where the extraction gave none)
@@ -48,12 +50,15 @@ namespace lasmesh {
 
 // Thin parts (rails, posts, cables: thinner than about a cell in two directions) meshed again at
 // half the cell, from a second read of the points near them; the sheet only.
-//   automatic  when the points are dense enough for half cells: the occupied cells hold a median
-//              of at least 12 points (a surface cell of half the size then holds about 3, the
-//              fewest a plane or a tube through them needs; sparse aerial data fits worse refined),
-//              and every input is a file (standard input cannot be read twice). Otherwise the
-//              report's thin_unrefined says why not.
-//   always     whatever the density; an Error (usage) for standard input or the closed surface.
+//   automatic  with the grid chosen from the data (GridRequest{}) when the points are denser than
+//              it: the occupied cells hold a median of at least 12 points (a surface cell of half
+//              the size then holds about 3, the fewest a plane or a tube through them needs;
+//              sparse aerial data fits worse refined), as where the automatic grid reaches its
+//              1024 cells an axis; and every input is a file (standard input cannot be read
+//              twice). A grid asked for is meshed at its cell. Otherwise the report's
+//              thin_unrefined says why not.
+//   always     whatever the grid and density; an Error (usage) for standard input or the closed
+//              surface.
 //   never      one cell size everywhere.
 enum class ThinRefinement { automatic, always, never };
 

@@ -18,10 +18,10 @@ namespace lasmesh {
 // few cells) the two largest are alike; a plane's edge gives a quarter to a half.
 constexpr double thin_line_ratio = 0.2;
 
-// By default thin parts are refined when the occupied cells hold a median of at least this many
-// points: a surface cell of half the size holds about a quarter of them, and a plane or a tube
-// through a cell's points needs 3. (The corpus's aerial files, which fit worse refined, hold
-// 1-11; the generated deck at 20M and 181M points 15 and 117, at 2M 7.)
+// By default thin parts are refined when the automatic grid's occupied cells hold a median of at
+// least this many points: a surface cell of half the size holds about a quarter of them, and a
+// plane or a tube through a cell's points needs 3. (The corpus's aerial files, which fit worse
+// refined, hold 1-11; the generated deck at 20M and 181M points 15 and 117, at 2M 7.)
 constexpr std::uint64_t thin_parts_min_median = 12;
 
 // The finer mesh replaces the coarse one in the cells within this many cells of a thin cell:
