@@ -436,6 +436,7 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
         } catch (const Error& e) {
             if (single || e.kind() != ErrorKind::input || !reader.failed_file()) throw;
             if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            a.left_out.push_back(survey.files[*reader.failed_file()].path);
             survey = survey_without(survey, *reader.failed_file(), e.what());
             if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
             continue;
@@ -472,7 +473,8 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
     return true;
 }
 
-std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
+std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,
+                                            const std::vector<std::string>& left_out, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r) {
     const auto start = std::chrono::steady_clock::now();
     Refinement refined;
@@ -493,6 +495,12 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     r.thin_cells = refined.cells.size();
     RunReport again; // the first read reported the survey's notes
     SurveyStart opened = open_survey(inputs, o, again);
+    for (const std::string& path : left_out)
+        for (std::size_t i = 0; i < opened.survey.files.size(); ++i)
+            if (opened.survey.files[i].path == path) {
+                opened.survey = survey_without(opened.survey, i, "left out by the first read");
+                break;
+            }
     AccumulateOptions accumulate = opened.accumulate;
     GridSpec fine = grid.spec;
     fine.cell_size /= 2; // exact: the fine cells split the grid's cells in two on every axis
@@ -778,7 +786,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     accumulate_survey(inputs, o, true, watch, a, r);
     std::optional<Refinement> refined;
     if (refines_thin_parts(inputs, o, a.grid, r)) {
-        refined = refine_thin_parts(inputs, o, a.grid, watch, r);
+        refined = refine_thin_parts(inputs, a.left_out, o, a.grid, watch, r);
         r.read_accumulate += r.thin_read;
     }
     return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start),
@@ -825,7 +833,7 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
             RunReport read;
             auto parts = std::make_shared<Accumulation::ThinParts>();
             parts->iso = iso;
-            parts->refinement = refine_thin_parts(accumulated.inputs, o, a.grid, watch, read);
+            parts->refinement = refine_thin_parts(accumulated.inputs, a.left_out, o, a.grid, watch, read);
             parts->cells = read.thin_cells, parts->read_seconds = read.thin_read,
             parts->unrefined = read.thin_unrefined;
             r.read_accumulate += read.thin_read;

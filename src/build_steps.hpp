@@ -33,6 +33,9 @@ struct Accumulation {
     std::optional<CrsInfo> crs;
     std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
     std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
+    // Inputs the read left out part-way through their records (skip_bad_inputs), in order: a
+    // second read of the inputs leaves them out the same way, so its frame is the grid's.
+    std::vector<std::string> left_out;
 
     // The last surface extracted, small pieces removed, before simplification: a new mesh that
     // changes only the simplification (or the normals, or the outputs) starts from it instead of
@@ -113,8 +116,10 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
                         RunReport& r);
 
 // Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
-// near them; nothing when there are none. Sets r.thin_cells and r.thin_read, or r.thin_unrefined.
-std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o,
+// near them (without those the first read `left_out`); nothing when there are none. Sets
+// r.thin_cells and r.thin_read, or r.thin_unrefined.
+std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,
+                                            const std::vector<std::string>& left_out, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r);
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;

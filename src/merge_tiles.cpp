@@ -166,7 +166,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     // from every input, as one machine reads them a second time.
     std::optional<Refinement> refined;
     if (refines_thin_parts(paths, o, grid, r)) {
-        refined = refine_thin_parts(paths, o, grid, watch, r);
+        refined = refine_thin_parts(paths, {}, o, grid, watch, r);
         r.read_accumulate += r.thin_read;
     }
     return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start),

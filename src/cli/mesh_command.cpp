@@ -130,8 +130,8 @@ void add_thin_parts_options(CLI::App& app, MeshOptions& o, const std::string& re
                      "Mesh thin parts (rails, posts, cables: thinner than about a cell in two directions) at half "
                      "the cell, " +
                          reading +
-                         ", however sparse the points (by default: when the occupied cells hold a median of 12 "
-                         "points or more and the inputs are files); the sheet only");
+                         ", whatever the grid and however sparse the points (by default: with the automatic grid, "
+                         "when its occupied cells hold a median of 12 points or more, from files); the sheet only");
     app.add_flag("--no-refine-thin", o.no_refine_thin, "One cell size everywhere, however dense the points")
         ->excludes(refine);
 }

@@ -186,6 +186,11 @@ check "a truncated file of several: named, and --skip-bad-inputs offered" contai
 "$lasmesh" "$dir/sv-0.las" "$dir/cut.las" -o "$dir/cut.ply" --skip-bad-inputs 2> "$dir/cut.txt"; rc=$?
 check "--skip-bad-inputs: meshed without it, and said" test "$rc" -eq 0 -a -s "$dir/cut.ply"
 check "--skip-bad-inputs: the summary names it" contains "$dir/cut.txt" "^skipped        .*cut.las: ends at byte 200000"
+# The thin parts' second read leaves out what the first left out: the files kept, byte for byte.
+"$lasmesh" "$dir/sv-0.las" "$dir/cut.las" "$dir/sv-3.las" -o "$dir/cut-thin.ply" --skip-bad-inputs --refine-thin 2> "$dir/cut-thin.txt"; rc=$?
+"$lasmesh" "$dir/sv-0.las" "$dir/sv-3.las" -o "$dir/kept-thin.ply" --refine-thin 2> "$dir/kept-thin.txt"
+check "--skip-bad-inputs, thin parts refined: exit 0 ($rc), read again without it" contains "$dir/cut-thin.txt" "^thin parts     [1-9][0-9]* cells meshed"
+check "... the bytes of the files kept" cmp -s "$dir/cut-thin.ply" "$dir/kept-thin.ply"
 
 # Thin parts: the deck's railings (rails and posts of 4 to 6 cm, in cells of 12 cm) meshed again
 # at half the cell come out nearer their true surfaces, at nearer their true area, than at the
