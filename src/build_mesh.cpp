@@ -615,7 +615,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         std::shared_ptr<const Accumulation::Surface> kept; // the finest level's, when it has the same options
         if (pieces && a.keeps_surface) {
             const std::lock_guard lock(a.surface_mutex);
-            if (a.surface && a.surface->same_options(iso, o)) kept = a.surface;
+            if (a.surface && a.surface->same_options(iso, o, refined != nullptr)) kept = a.surface;
         }
         Mesh m;
         std::size_t extracted = 0;
@@ -649,7 +649,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             removed = remove_small_pieces(m, o.min_piece);
             if (pieces && a.keeps_surface) {
                 auto surface = std::make_shared<const Accumulation::Surface>(Accumulation::Surface{
-                    iso, o.surface, o.placement, o.min_piece, o.refine_thin, extracted, removed, m});
+                    iso, o.surface, o.placement, o.min_piece, refined != nullptr, extracted, removed, m});
                 const std::lock_guard lock(a.surface_mutex);
                 a.surface = std::move(surface);
             }

@@ -45,14 +45,14 @@ struct Accumulation {
         SurfaceKind surface{};
         VertexPlacement placement{};
         MinPiece min_piece;
-        ThinRefinement refine_thin{};
+        bool refined = false;      // its thin parts meshed at half the cell (from the iso's)
         std::size_t extracted = 0; // triangles before small pieces were removed
         PieceCount pieces;
         Mesh mesh;
-        bool same_options(double i, const BuildOptions& o) const {
+        bool same_options(double i, const BuildOptions& o, bool thin_refined) const {
             return iso == i && surface == o.surface && placement == o.placement &&
                    min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative &&
-                   refine_thin == o.refine_thin;
+                   refined == thin_refined;
         }
     };
     bool keeps_surface = false;

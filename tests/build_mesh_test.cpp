@@ -228,6 +228,46 @@ TEST_CASE("refine_thin by default: a grid asked for meshes at its cell, the repo
     CHECK(error_of(f.input, asked).option() == "refine_thin");
 }
 
+TEST_CASE("refine_thin by default, end to end: refined in one call, from an accumulation and by a merge") {
+    Fixture f;
+    // A ball 400 m from the deck stretches the automatic grid's cells: 16 points in the median
+    // occupied cell, denser than the grid.
+    lasgen::SceneOptions far;
+    far.kind = lasgen::SceneKind::sphere, far.size = 1, far.origin = {400, 0, 0};
+    const std::string ball = f.dir.file("ball.las");
+    test::write_file(ball, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(far), 300, 5));
+    const std::vector<std::string> inputs{f.input, ball};
+    const auto mesh = [&](ThinRefinement refine, const std::string& name) {
+        BuildOptions o;
+        o.refine_thin = refine;
+        o.outputs.push_back(request(f.dir.file(name)));
+        return build_mesh(inputs, o).report;
+    };
+    const RunReport automatic = mesh(ThinRefinement::automatic, "auto.ply");
+    CHECK(automatic.median_count >= 12);
+    CHECK(automatic.thin_cells > 0);
+    CHECK(automatic.thin_unrefined.empty());
+    mesh(ThinRefinement::always, "always.ply");
+    mesh(ThinRefinement::never, "never.ply");
+    const test::Bytes refined = test::read_file(f.dir.file("auto.ply"));
+    CHECK(refined == test::read_file(f.dir.file("always.ply")));
+    CHECK(refined != test::read_file(f.dir.file("never.ply")));
+
+    BuildOptions o;
+    o.outputs.push_back(request(f.dir.file("again.ply")));
+    const AccumulatedInputs read = accumulate_inputs(inputs, o);
+    CHECK(build_mesh(read, o).report.thin_cells == automatic.thin_cells);
+    CHECK(test::read_file(f.dir.file("again.ply")) == refined);
+
+    TilePlan plan = plan_tiles(inputs, o, 0);
+    write_plan(plan, f.dir.file("p.plan.json"));
+    const TilePlan planned = read_plan(f.dir.file("p.plan.json"));
+    for (std::size_t k = 0; k < planned.tiles.size(); ++k) run_tile(planned, k, o);
+    o.outputs = {request(f.dir.file("merged.ply"))};
+    CHECK(merge_tiles(planned, o).report.thin_cells == automatic.thin_cells);
+    CHECK(test::read_file(f.dir.file("merged.ply")) == refined);
+}
+
 TEST_CASE("accumulate_inputs with refine_thin: one call's bytes, the thin parts read again once an iso") {
     Fixture f;
     BuildOptions o = f.options({});

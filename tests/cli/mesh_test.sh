@@ -265,8 +265,7 @@ check "... and the mesh is the plain run's" cmp -s "$dir/thin-sphere.ply" "$dir/
 # By default thin parts are refined only with the automatic grid, and only where the points are
 # denser than it: the 2M deck's occupied cells hold a median of 7 points, too few (one cell size,
 # and the summary says why). A grid asked for is meshed at its cell (said too), and standard input
-# cannot be read twice (said too). (Refined by default: the unit tests, and the 20M and 181M decks
-# in docs/benchmarks.md.)
+# cannot be read twice (said too). (Refined by default, end to end: tests/build_mesh_test.cpp.)
 "$lasmesh" "$dir/deck.las" -o "$dir/one.ply" --no-refine-thin -q
 check "by default, sparse for half cells: one cell size" cmp -s "$dir/plain.ply" "$dir/one.ply"
 check "... which the summary says" contains "$dir/plain.txt" "^thin parts     none refined: the points are too sparse for half cells (a median of 7 in an occupied cell, 12 needed)"
