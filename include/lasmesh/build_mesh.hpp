@@ -135,7 +135,7 @@ struct RunReport {
     // them), and the seconds their points' second read took (counted in read_accumulate).
     std::uint64_t thin_cells = 0;
     double thin_read = 0;
-    std::string thin_unrefined; // no cell refined unless never asked: why ("no thin parts found")
+    std::string thin_unrefined; // why no cell was refined ("no thin parts found"); empty with never
     std::size_t vertices = 0, triangles = 0;
     bool colored = false, normals = false;
     Vec3 origin{}; // output positions are relative to it

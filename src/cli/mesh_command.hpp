@@ -18,7 +18,7 @@ struct MeshOptions {
     std::string inputs_list;          // --inputs LIST: one path a line
     bool skip_bad_inputs = false;     // --skip-bad-inputs
     bool refine_thin = false;         // --refine-thin: whatever the density
-    bool no_refine_thin = false;      // --no-refine-thin (neither: when the points are dense enough)
+    bool no_refine_thin = false;      // --no-refine-thin (neither: ThinRefinement::automatic)
     std::string crs;                  // --crs
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
