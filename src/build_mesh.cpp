@@ -7,6 +7,7 @@
 
 #include "byte_order.hpp"
 #include "grid/auto_grid.hpp"
+#include "grid/cell_set.hpp"
 #include "grid/cell_sums.hpp"
 #include "grid/compute_device.hpp"
 #include "grid/thin_parts.hpp"
@@ -249,9 +250,9 @@ std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& input
 namespace {
 
 // The union of the survey's files' scanned bounds (a first pass over every record), in the
-// survey's CRS. With
-// skip_bad, a file that fails is left out of the survey.
-Bounds scanned_bounds(Survey& survey, bool skip_bad) {
+// survey's CRS. With skip_bad, a file that fails is left out of the survey, its path added to
+// `left_out`.
+Bounds scanned_bounds(Survey& survey, bool skip_bad, std::vector<std::string>& left_out) {
     std::optional<Bounds> all;
     for (std::size_t i = 0; i < survey.files.size();) {
         if (survey.files[i].point_count == 0) {
@@ -264,6 +265,7 @@ Bounds scanned_bounds(Survey& survey, bool skip_bad) {
         } catch (const Error& e) {
             if (e.kind() != ErrorKind::input) throw;
             if (!skip_bad) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
+            left_out.push_back(survey.files[i].path);
             survey = survey_without(survey, i, e.what());
             continue;
         }
@@ -332,7 +334,7 @@ SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptio
     }
     start.survey = read_survey(inputs, survey_options, start.single.get());
     Survey& survey = start.survey;
-    if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
+    if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs, start.left_out);
     if (survey.header.point_count == 0)
         throw Error(ErrorKind::input, "the headers of the " + std::to_string(survey.files.size()) +
                                           " inputs promise no point records: nothing to mesh");
@@ -420,6 +422,7 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
     accumulate.memory_in_use = resident_bytes(); // the program, its libraries, the OpenCL runtime
     a.memory_in_use = accumulate.memory_in_use;
     CellGrid& grid = a.grid;
+    a.left_out = opened.left_out;
     std::vector<std::string> reader_warnings;
     for (;;) { // once, or again without a file that failed part-way (skip_bad_inputs)
         SurveyReader reader(survey, single);
@@ -438,7 +441,7 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
             if (!o.skip_bad_inputs) throw Error(e.kind(), e.what(), with_skip_option(e.option()), e.suggestion());
             a.left_out.push_back(survey.files[*reader.failed_file()].path);
             survey = survey_without(survey, *reader.failed_file(), e.what());
-            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs);
+            if (o.scan_bounds && !o.bounds) accumulate.bounds = scanned_bounds(survey, o.skip_bad_inputs, a.left_out);
             continue;
         }
         reader_warnings = reader.warnings();
@@ -494,7 +497,16 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     const std::vector<std::uint64_t> read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);
     r.thin_cells = refined.cells.size();
     RunReport again; // the first read reported the survey's notes
-    SurveyStart opened = open_survey(inputs, o, again);
+    // The fine grid is fixed (below): with scanned bounds, the records are not scanned a third
+    // time (the files the scan left out are in `left_out`); any bounds stop the headers' check.
+    BuildOptions read_again = o;
+    if (read_again.scan_bounds && !read_again.bounds) {
+        read_again.scan_bounds = false;
+        Bounds box{grid.spec.origin, grid.spec.origin};
+        for (int a = 0; a < 3; ++a) box.max[a] += grid.spec.cell_size * grid.spec.dims[a];
+        read_again.bounds = box;
+    }
+    SurveyStart opened = open_survey(inputs, read_again, again);
     for (const std::string& path : left_out)
         for (std::size_t i = 0; i < opened.survey.files.size(); ++i)
             if (opened.survey.files[i].path == path) {
@@ -526,52 +538,36 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
         if (!cell_table[a].empty()) return cell_table[a][static_cast<std::size_t>(raw - starts.front())];
         return std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1;
     };
-    const BrickTable near_thin(read_cells); // a hash of 64-bit keys: cell keys here
-    // Most points lie far from any thin part: a bit per brick of the grid (at most 32 MiB; none
-    // past that) turns them away before the hash, whose probes would miss the caches.
-    const std::array<std::uint64_t, 3> bricks{grid.bricks[0], grid.bricks[1], grid.bricks[2]};
-    std::vector<std::uint64_t> near_bricks;
-    if (bricks[0] * bricks[1] * bricks[2] <= (std::uint64_t{1} << 28)) {
-        near_bricks.assign((bricks[0] * bricks[1] * bricks[2] + 63) / 64, 0);
-        for (const std::uint64_t key : read_cells) {
-            const std::uint64_t x = key % std::uint64_t(dims[0]),
-                                y = key / std::uint64_t(dims[0]) % std::uint64_t(dims[1]),
-                                z = key / std::uint64_t(dims[0]) / std::uint64_t(dims[1]);
-            const std::uint64_t b =
-                ((z >> CellGrid::brick_bits) * bricks[1] + (y >> CellGrid::brick_bits)) * bricks[0] +
-                (x >> CellGrid::brick_bits);
-            near_bricks[b / 64] |= std::uint64_t{1} << (b % 64);
-        }
-    }
-    std::vector<char> keep;
+    const CellSet near_thin(read_cells, dims); // most points lie far from any thin part
+    // Each block of records keeps its points near a thin part at its front, in parallel; then
+    // the blocks' kept runs are moved together, in order.
+    constexpr std::size_t block = 4096;
+    std::vector<std::size_t> kept_in;
     SurveyReader reader(opened.survey, opened.single.get());
     reader.on_records([&](std::size_t, std::byte* records, std::size_t count) {
-        keep.assign(count, 0);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16384), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        kept_in.assign((count + block - 1) / block, 0);
+        tbb::parallel_for(std::size_t{0}, kept_in.size(), [&](std::size_t b) {
+            std::byte* front = records + b * block * length;
+            std::size_t kept = 0;
+            for (std::size_t i = b * block; i < std::min(count, (b + 1) * block); ++i) {
                 const std::byte* at = records + i * length;
                 const std::int64_t x = cell_of(0, load_le<std::int32_t>(at)),
                                    y = cell_of(1, load_le<std::int32_t>(at + 4)),
                                    z = cell_of(2, load_le<std::int32_t>(at + 8));
-                if (x < 0 || y < 0 || z < 0) continue;
-                if (!near_bricks.empty()) {
-                    const std::uint64_t b = ((std::uint64_t(z) >> CellGrid::brick_bits) * bricks[1] +
-                                             (std::uint64_t(y) >> CellGrid::brick_bits)) *
-                                                bricks[0] +
-                                            (std::uint64_t(x) >> CellGrid::brick_bits);
-                    if (!(near_bricks[b / 64] >> (b % 64) & 1)) continue;
-                }
-                keep[i] = near_thin.find((std::uint64_t(z) * std::uint64_t(dims[1]) + std::uint64_t(y)) *
-                                             std::uint64_t(dims[0]) +
-                                         std::uint64_t(x)) != 0;
-            }
-        });
-        std::size_t kept = 0;
-        for (std::size_t i = 0; i < count; ++i)
-            if (keep[i]) {
-                if (kept != i) std::memmove(records + kept * length, records + i * length, length);
+                if (x < 0 || y < 0 || z < 0 ||
+                    !near_thin.contains(std::uint64_t(x), std::uint64_t(y), std::uint64_t(z)))
+                    continue;
+                if (front + kept * length != at) std::memmove(front + kept * length, at, length);
                 ++kept;
             }
+            kept_in[b] = kept;
+        });
+        std::size_t kept = 0;
+        for (std::size_t b = 0; b < kept_in.size(); ++b) {
+            if (kept != b * block && kept_in[b] > 0)
+                std::memmove(records + kept * length, records + b * block * length, kept_in[b] * length);
+            kept += kept_in[b];
+        }
         return kept;
     });
     watch.stage_started(BuildStage::read_accumulate, "reading the thin parts again");

@@ -33,8 +33,9 @@ struct Accumulation {
     std::optional<CrsInfo> crs;
     std::uint64_t fullest_cell = 0;  // for the message should the mesh come out empty
     std::uint64_t memory_in_use = 0; // before the grid: the program, its libraries, the runtime
-    // Inputs the read left out part-way through their records (skip_bad_inputs), in order: a
-    // second read of the inputs leaves them out the same way, so its frame is the grid's.
+    // Inputs the read left out part-way through their records, or the bounds' scan did
+    // (skip_bad_inputs), in order: a second read of the inputs leaves them out the same way, so
+    // its frame is the grid's.
     std::vector<std::string> left_out;
 
     // The last surface extracted, small pieces removed, before simplification: a new mesh that
@@ -87,6 +88,7 @@ struct SurveyStart {
     Survey survey;
     std::unique_ptr<LasReader> single; // one input: open already (standard input too)
     AccumulateOptions accumulate;      // the grid, bounds, slices and memory of `o`
+    std::vector<std::string> left_out; // inputs the bounds' scan left out (skip_bad_inputs), in order
 };
 // Fills the CRS fields and the survey's notes of `r`. Throws Error as build_mesh does.
 SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptions& o, RunReport& r);

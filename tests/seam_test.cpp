@@ -139,3 +139,31 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
         CHECK(joined.triangles == coarse.triangles);
     }
 }
+
+TEST_CASE("the seam on the face between two bricks: joined as one inside a brick is") {
+    // The plane x = 8 between the fine cells (x < 8) and the coarse ones is a face between bricks
+    // of 4 cells: the coarse triangles next to it lie in bricks that hold no fine cell.
+    GridSpec coarse_spec;
+    coarse_spec.dims = {16, 8, 4};
+    GridSpec fine_spec = coarse_spec;
+    fine_spec.cell_size = 0.5, fine_spec.dims = {32, 16, 8};
+    std::vector<std::uint64_t> fine_cells;
+    for (std::uint64_t z = 0; z < 4; ++z)
+        for (std::uint64_t y = 0; y < 8; ++y)
+            for (std::uint64_t x = 0; x < 8; ++x) fine_cells.push_back((z * 8 + y) * 16 + x);
+    std::sort(fine_cells.begin(), fine_cells.end());
+    Mesh joined = extract_sheet(layer_grid(coarse_spec, 1), 1);
+    Mesh fine = extract_sheet(layer_grid(fine_spec, 3), 1);
+    keep_triangles_in_blocks(joined, coarse_spec, 0, fine_cells, false);
+    keep_triangles_in_blocks(fine, coarse_spec, 0, fine_cells, true);
+    const SeamReport seam = append_joined(joined, fine, coarse_spec, fine_cells);
+    CHECK(seam.faces == 8);
+    CHECK(seam.joined == 8);
+    std::size_t on_plane = 0;
+    for (const auto& [edge, uses] : edges_of(joined).uses)
+        if (joined.positions[edge.first][0] == 8.0f && joined.positions[edge.second][0] == 8.0f) {
+            ++on_plane;
+            CHECK(uses == 2);
+        }
+    CHECK(on_plane >= 16);
+}

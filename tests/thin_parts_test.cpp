@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Thin parts: the eigenvalues their test rests on, and the cells found on the generated deck:
 // the railings' (thinner than a cell), not the deck's middle, a container's top or a pipe's.
+#include "grid/cell_set.hpp"
 #include "grid/thin_parts.hpp"
 #include "lasgen/scene.hpp"
 #include "lasmesh/grid.hpp"
@@ -12,6 +13,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <set>
 
 using namespace lasmesh;
 
@@ -52,6 +55,35 @@ TEST_CASE("blocks around cells: reach, clipping at the grid, brick numbering, as
     // Bricks of 4 cells (shift 2): cells 5 and 7 on x are both in brick 1; with reach 1, bricks 0-2.
     keys = blocks_around({{5, 0, 0}, {7, 0, 0}}, {3, 1, 1}, 2, 1);
     CHECK(keys == std::vector<std::uint64_t>{0, 1, 2});
+}
+
+TEST_CASE("cell set: exactly its cells, found by the bits per brick and by the hash") {
+    // A grid whose sides are not whole bricks, cells drawn at random (some bricks full, most
+    // empty), and a cluster around a corner: every cell of the grid asked about, both ways.
+    const std::array<std::int64_t, 3> dims{23, 9, 14};
+    std::mt19937_64 random(7);
+    std::set<std::uint64_t> chosen;
+    for (int i = 0; i < 300; ++i) chosen.insert(random() % std::uint64_t(dims[0] * dims[1] * dims[2]));
+    for (std::int64_t z = 10; z < 14; ++z)
+        for (std::int64_t y = 4; y < 8; ++y)
+            for (std::int64_t x = 20; x < 23; ++x) chosen.insert(std::uint64_t((z * dims[1] + y) * dims[0] + x));
+    const std::vector<std::uint64_t> keys(chosen.begin(), chosen.end());
+    for (const std::uint64_t bitmap_limit : {CellSet::max_bitmap_bricks, std::uint64_t{0}}) {
+        CAPTURE(bitmap_limit);
+        const CellSet set(keys, dims, bitmap_limit);
+        CHECK(set.has_bitmap() == (bitmap_limit > 0));
+        std::size_t found = 0, wrong = 0;
+        for (std::int64_t z = 0; z < dims[2]; ++z)
+            for (std::int64_t y = 0; y < dims[1]; ++y)
+                for (std::int64_t x = 0; x < dims[0]; ++x) {
+                    const bool in = set.contains(std::uint64_t(x), std::uint64_t(y), std::uint64_t(z));
+                    found += in;
+                    wrong += in != chosen.contains(std::uint64_t((z * dims[1] + y) * dims[0] + x));
+                }
+        CHECK(found == chosen.size());
+        CHECK(wrong == 0);
+    }
+    CHECK_FALSE(CellSet({}, dims).contains(0, 0, 0));
 }
 
 TEST_CASE("triangles kept by the cell or brick of their centroid, in their order, unused vertices dropped") {

@@ -3,6 +3,8 @@
 // on the cell faces where they meet (Shu, Zhou & Kankanhalli 1995's crack patching).
 #include "mesh/seam.hpp"
 
+#include "grid/cell_set.hpp"
+#include "grid/thin_parts.hpp"
 #include "mesh/mesh_edit.hpp"
 
 #include <algorithm>
@@ -61,8 +63,30 @@ struct SeamEdge {
     bool operator<(const SeamEdge& o) const { return std::tie(face, a, b) < std::tie(o.face, o.a, o.b); }
 };
 
+// The bricks of the grid (CellGrid::brick_size cells an edge) within a brick of a cell of
+// `fine_cells`. A triangle with an edge on a face of the seam lies in a cell that holds that
+// edge, next to the face, and its centroid at most on that cell's far side: only triangles whose
+// centroid lies in these bricks can share such an edge, so the others need not be looked at.
+struct NearSeam {
+    std::array<std::int64_t, 3> bricks{};
+    CellSet near;
+};
+NearSeam near_seam(const GridSpec& grid, const std::vector<std::uint64_t>& fine_cells) {
+    NearSeam n;
+    for (int a = 0; a < 3; ++a)
+        n.bricks[a] = (std::int64_t{grid.dims[a]} + CellGrid::brick_size - 1) >> CellGrid::brick_bits;
+    std::vector<std::array<std::int64_t, 3>> cells;
+    cells.reserve(fine_cells.size());
+    for (const std::uint64_t key : fine_cells)
+        cells.push_back({std::int64_t(key % grid.dims[0]), std::int64_t(key / grid.dims[0] % grid.dims[1]),
+                         std::int64_t(key / grid.dims[0] / grid.dims[1])});
+    n.near = CellSet(blocks_around(cells, n.bricks, CellGrid::brick_bits, 1), n.bricks);
+    return n;
+}
+
 // The border edges of `m` that lie on a face between a cell of `fine_cells` and one that is not.
-std::vector<SeamEdge> seam_edges(const Mesh& m, const GridSpec& grid, const std::vector<std::uint64_t>& fine_cells) {
+std::vector<SeamEdge> seam_edges(const Mesh& m, const GridSpec& grid, const std::vector<std::uint64_t>& fine_cells,
+                                 const NearSeam& near) {
     struct Edge {
         std::uint64_t key;
         std::uint32_t triangle;
@@ -70,14 +94,25 @@ std::vector<SeamEdge> seam_edges(const Mesh& m, const GridSpec& grid, const std:
         bool operator<(const Edge& o) const { return std::tie(key, triangle, at) < std::tie(o.key, o.triangle, o.at); }
     };
     std::vector<Edge> edges;
-    edges.reserve(3 * m.triangles.size());
-    for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
+    const double h = grid.cell_size;
+    for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
+        std::array<std::int64_t, 3> brick{};
+        bool inside = true;
+        for (int x = 0; x < 3; ++x) {
+            const double centroid = (static_cast<double>(m.positions[m.triangles[t][0]][x]) +
+                                     m.positions[m.triangles[t][1]][x] + m.positions[m.triangles[t][2]][x]) /
+                                    3;
+            brick[x] = static_cast<std::int64_t>(std::floor(centroid / h)) >> CellGrid::brick_bits;
+            inside = inside && brick[x] >= 0 && brick[x] < near.bricks[x];
+        }
+        if (!inside || !near.near.contains(std::uint64_t(brick[0]), std::uint64_t(brick[1]), std::uint64_t(brick[2])))
+            continue;
         for (int e = 0; e < 3; ++e) {
             const std::uint64_t a = m.triangles[t][e], b = m.triangles[t][(e + 1) % 3];
             edges.push_back({std::min(a, b) << 32 | std::max(a, b), t, e});
         }
+    }
     std::sort(edges.begin(), edges.end());
-    const double h = grid.cell_size;
     const auto in_grid = [&](const std::array<std::int64_t, 3>& c) {
         for (int a = 0; a < 3; ++a)
             if (c[a] < 0 || c[a] >= static_cast<std::int64_t>(grid.dims[a])) return false;
@@ -296,9 +331,10 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     SeamReport report;
     const double h = grid.cell_size;
     Mesh fine = thin;
-    const std::vector<SeamEdge> coarse_seam = seam_edges(coarse, grid, fine_cells);
-    face_as_coarse(fine, coarse, coarse_seam, seam_edges(fine, grid, fine_cells), h);
-    const std::vector<SeamEdge> fine_seam = seam_edges(fine, grid, fine_cells);
+    const NearSeam near = near_seam(grid, fine_cells);
+    const std::vector<SeamEdge> coarse_seam = seam_edges(coarse, grid, fine_cells, near);
+    face_as_coarse(fine, coarse, coarse_seam, seam_edges(fine, grid, fine_cells, near), h);
+    const std::vector<SeamEdge> fine_seam = seam_edges(fine, grid, fine_cells, near);
     // Face by face: the fine chains matched to the coarse segments.
     std::vector<Match> matches;
     std::vector<SeamEdge> segments, pieces;
