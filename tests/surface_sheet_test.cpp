@@ -201,7 +201,7 @@ TEST_CASE("a noisy plane across cell faces: the sheet on the plane, not on the h
     }
     REQUIRE(inside > 1000);
     CAPTURE(sum / double(inside));
-    CHECK(sum / double(inside) < 0.0025); // 0.13 cm; the cells' tails alone: 0.76 cm
+    CHECK(sum / double(inside) < 0.0035); // 0.26 cm; the cells' tails alone: 0.76 cm
 
     // A pipe of 25 cm radius along y, the same noise and cells: pooled with the cells along its
     // surface as well as across it, the sheet would sink toward the axis by the arc's sagitta.

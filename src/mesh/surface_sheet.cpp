@@ -183,24 +183,32 @@ void estimate_normals(Planes& planes) {
 // truncated normal: up to 0.8 sigma off the surface at the face itself), so the planes of the two
 // cells sit on either side of the surface and the sheet zigzags between them. Each plane is
 // therefore moved along its normal to the count-weighted mean offset of its cell and of the
-// neighbouring cells across its plane from it: those whose centroid lies within half a cell of
-// its normal line and whose normal is within 26 degrees of its own (the other tails of the same
-// layer of points, not the cells along the plane nor another surface). Their points together are
-// the whole layer, whose mean lies on the surface. On the 181M-point deck the deck's mean error
-// went from 0.76 to 0.15 cm and the mesh from 197,295 to 59,138 triangles (a flat sheet
-// simplifies to large triangles); docs/benchmarks.md.
+// neighbouring cells across its plane from it: those whose centroid lies within a quarter of a
+// cell of its normal line and half a cell of its plane, whose normal is within 26 degrees of its
+// own, and that are no tube (the other tails of the same layer of points, not the cells along
+// the plane, another surface or a rail). Their points together are the whole layer, whose mean
+// lies on the surface. Within half a cell of the normal line, a pipe a cell or two across sank
+// toward its axis at coarse grids (the deck at 25 cm cells lost a tenth of its pipes' area). On
+// the 181M-point deck the mesh went from 0.82 to 0.40 cm off the true surfaces on average and
+// from 197,295 to 132,284 triangles (docs/benchmarks.md).
 void pool_split_layers(Planes& planes, double h) {
     std::vector<Vec> moved(planes.centroid.size());
     tbb::parallel_for(std::size_t{0}, planes.cell.size(), [&](std::size_t p) {
         const Vec& n = planes.normal[p];
         const Vec& c = planes.centroid[p];
+        if (planes.tubular(static_cast<std::uint32_t>(p))) {
+            moved[p] = c;
+            return;
+        }
         double total = static_cast<double>(planes.count[p]), offset = 0;
         planes.for_each_neighbour(static_cast<std::uint32_t>(p), [&](std::uint32_t q) {
             const Vec& m = planes.centroid[q];
             const Vec d{m[0] - c[0], m[1] - c[1], m[2] - c[2]};
             const double along = dot(n, d);
             const Vec across{d[0] - along * n[0], d[1] - along * n[1], d[2] - along * n[2]};
-            if (dot(across, across) > 0.25 * h * h || std::abs(dot(n, planes.normal[q])) < 0.9) return;
+            if (std::abs(along) > 0.5 * h || dot(across, across) > h * h / 16 ||
+                std::abs(dot(n, planes.normal[q])) < 0.9 || planes.tubular(q))
+                return;
             const double w = static_cast<double>(planes.count[q]);
             total += w, offset += w * along;
         });
@@ -659,11 +667,8 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
-    // The tubes' grid keeps its centroids: a tube's radius is measured from them (the arc's
-    // centroid), and moved along planes a rail does not define they put the railings further
-    // off (0.54 cm against 0.46 on the 181M-point deck).
-    if (linear == LinearParts::planes) pool_split_layers(planes, grid.spec.cell_size);
     if (linear == LinearParts::tubes) estimate_tubes(planes);
+    pool_split_layers(planes, grid.spec.cell_size);
     const Outside outside(planes);
     orient_normals(planes, outside);
     // The cells' coordinates and counts served the normals only: their memory goes to marching.

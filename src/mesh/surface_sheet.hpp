@@ -13,9 +13,9 @@ namespace lasmesh {
 // unorganized points"), with the grid's cells standing in for the points' neighbourhoods:
 //  1. every cell with more than `iso` points is a surface cell, with a tangent plane through its
 //     points' centroid (exact, from the position sums) and a normal from the principal axes of
-//     the centroids of the surface cells around it (3 x 3 x 3); with planes (not tubes), each plane
-//     then moved along its normal to the mean of the layer of points it shares with the cells
-//     across it, which a cell face splits into tails whose centroids sit off the surface;
+//     the centroids of the surface cells around it (3 x 3 x 3); each plane (not a tube's) then
+//     moved along its normal to the mean of the layer of points it shares with the cells across
+//     it, which a cell face splits into tails whose centroids sit off the surface;
 //  2. the normals are oriented consistently by growing a maximum spanning tree over neighbouring
 //     cells, weighted by how parallel their planes are, and linking only cells that lie along each
 //     other's plane (so the two faces of a wall thicker than a cell keep opposite normals); the
