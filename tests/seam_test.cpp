@@ -43,25 +43,37 @@ Edges edges_of(const Mesh& m) {
     return e;
 }
 
+// Cells of 1, `width` x 8 x 4; the points of the coarse grid's layer 1 at z = 1.5, of the fine
+// grid's layer 3 at z = 1.75: two planes a quarter cell apart, as two meshes of one noisy
+// surface are. The fine mesh is kept in the cells with x < `seam`, the coarse one in the others.
+struct Layers {
+    GridSpec coarse_spec;
+    std::vector<std::uint64_t> fine_cells; // ascending
+    Mesh coarse, fine;
+};
+Layers layers_meeting_at(std::uint32_t width, std::uint64_t seam) {
+    Layers l;
+    l.coarse_spec.dims = {width, 8, 4};
+    GridSpec fine_spec = l.coarse_spec;
+    fine_spec.cell_size = 0.5, fine_spec.dims = {2 * width, 16, 8};
+    for (std::uint64_t z = 0; z < 4; ++z)
+        for (std::uint64_t y = 0; y < 8; ++y)
+            for (std::uint64_t x = 0; x < seam; ++x) l.fine_cells.push_back((z * 8 + y) * width + x);
+    l.coarse = extract_sheet(layer_grid(l.coarse_spec, 1), 1);
+    l.fine = extract_sheet(layer_grid(fine_spec, 3), 1);
+    keep_triangles_in_blocks(l.coarse, l.coarse_spec, 0, l.fine_cells, false);
+    keep_triangles_in_blocks(l.fine, l.coarse_spec, 0, l.fine_cells, true);
+    return l;
+}
+
 } // namespace
 
 TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces between them, facing its way") {
-    // Cells of 1, 12 x 8 x 4; the points of the coarse grid's layer 1 at z = 1.5, of the fine
-    // grid's layer 3 at z = 1.75: two planes a quarter cell apart, as two meshes of one noisy
-    // surface are. The fine mesh is kept in the cells with x < 6, the coarse one in the others.
-    GridSpec coarse_spec;
-    coarse_spec.dims = {12, 8, 4};
-    GridSpec fine_spec = coarse_spec;
-    fine_spec.cell_size = 0.5, fine_spec.dims = {24, 16, 8};
-    std::vector<std::uint64_t> fine_cells;
-    for (std::uint64_t z = 0; z < 4; ++z)
-        for (std::uint64_t y = 0; y < 8; ++y)
-            for (std::uint64_t x = 0; x < 6; ++x) fine_cells.push_back((z * 8 + y) * 12 + x);
-    std::sort(fine_cells.begin(), fine_cells.end());
-    Mesh coarse = extract_sheet(layer_grid(coarse_spec, 1), 1);
-    Mesh fine = extract_sheet(layer_grid(fine_spec, 3), 1);
-    keep_triangles_in_blocks(coarse, coarse_spec, 0, fine_cells, false);
-    keep_triangles_in_blocks(fine, coarse_spec, 0, fine_cells, true);
+    // The fine mesh in the cells with x < 6 of 12, the coarse one in the others.
+    const Layers l = layers_meeting_at(12, 6);
+    const GridSpec& coarse_spec = l.coarse_spec;
+    const std::vector<std::uint64_t>& fine_cells = l.fine_cells;
+    const Mesh &coarse = l.coarse, &fine = l.fine;
     REQUIRE(!coarse.triangles.empty());
     REQUIRE(!fine.triangles.empty());
     const auto on_seam = [](const std::array<float, 3>& p) { return p[0] == 6.0f; };
@@ -143,20 +155,9 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
 TEST_CASE("the seam on the face between two bricks: joined as one inside a brick is") {
     // The plane x = 8 between the fine cells (x < 8) and the coarse ones is a face between bricks
     // of 4 cells: the coarse triangles next to it lie in bricks that hold no fine cell.
-    GridSpec coarse_spec;
-    coarse_spec.dims = {16, 8, 4};
-    GridSpec fine_spec = coarse_spec;
-    fine_spec.cell_size = 0.5, fine_spec.dims = {32, 16, 8};
-    std::vector<std::uint64_t> fine_cells;
-    for (std::uint64_t z = 0; z < 4; ++z)
-        for (std::uint64_t y = 0; y < 8; ++y)
-            for (std::uint64_t x = 0; x < 8; ++x) fine_cells.push_back((z * 8 + y) * 16 + x);
-    std::sort(fine_cells.begin(), fine_cells.end());
-    Mesh joined = extract_sheet(layer_grid(coarse_spec, 1), 1);
-    Mesh fine = extract_sheet(layer_grid(fine_spec, 3), 1);
-    keep_triangles_in_blocks(joined, coarse_spec, 0, fine_cells, false);
-    keep_triangles_in_blocks(fine, coarse_spec, 0, fine_cells, true);
-    const SeamReport seam = append_joined(joined, fine, coarse_spec, fine_cells);
+    const Layers l = layers_meeting_at(16, 8);
+    Mesh joined = l.coarse;
+    const SeamReport seam = append_joined(joined, l.fine, l.coarse_spec, l.fine_cells);
     CHECK(seam.faces == 8);
     CHECK(seam.joined == 8);
     std::size_t on_plane = 0;
