@@ -326,16 +326,29 @@ double farthest_from(const lasmesh::Mesh& surface, const std::vector<Vec3>& poin
             for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
                 for (std::int64_t x = lo[0]; x <= hi[0]; ++x) cells[{x, y, z}].push_back(f);
     }
+    // A point nearer than the farthest so far cannot change the answer, so its search stops at the
+    // first triangle that near (Taha & Hanbury 2015, an exact Hausdorff distance with early
+    // breaks), and the triangle nearest the previous point, usually near this one too (samples
+    // come triangle by triangle), is tried first: the same result in a fraction of the work.
     double farthest = 0;
+    std::uint32_t last = std::numeric_limits<std::uint32_t>::max();
+    const auto distance_to = [&](const Vec3& p, std::uint32_t f) {
+        const auto& t = surface.triangles[f];
+        return triangle_distance(p, corner(surface, t[0]), corner(surface, t[1]), corner(surface, t[2]));
+    };
     for (const Vec3& p : points) {
         const auto found = cells.find({cell_of(p[0]), cell_of(p[1]), cell_of(p[2])});
         double nearest = std::numeric_limits<double>::infinity();
-        if (found != cells.end())
-            for (const std::uint32_t f : found->second) {
-                const auto& t = surface.triangles[f];
-                nearest = std::min(
-                    nearest, triangle_distance(p, corner(surface, t[0]), corner(surface, t[1]), corner(surface, t[2])));
-            }
+        if (found != cells.end()) {
+            std::uint32_t nearest_face = last;
+            if (last < surface.triangles.size()) nearest = distance_to(p, last);
+            if (nearest > farthest)
+                for (const std::uint32_t f : found->second) {
+                    if (const double d = distance_to(p, f); d < nearest) nearest = d, nearest_face = f;
+                    if (nearest <= farthest) break;
+                }
+            last = nearest_face;
+        }
         farthest = std::max(farthest, nearest > reach ? std::numeric_limits<double>::infinity() : nearest);
     }
     return farthest;

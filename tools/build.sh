@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   # toolchain
-  cmake g++ make pkg-config
+  cmake g++ make pkg-config ccache
   # libraries: LAS streams, parallelism, command line, tests, JSON (command line only), OpenCL, Draco
   libboost-iostreams-dev libtbb-dev libcli11-dev doctest-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
@@ -65,10 +65,18 @@ if [ "$(cat build/viewer/installed 2>/dev/null)" != "${viewer_packages[*]}" ]; t
 fi
 
 build_type=${LASMESH_BUILD_TYPE:-Release}
+# ccache keeps each compiled object by the hash of its preprocessed source and flags, so building
+# the same sources again, in this tree or in another clone of it (paths under the tree are hashed
+# relative to it: CCACHE_BASEDIR, CCACHE_NOHASHDIR), takes seconds instead of minutes: the release
+# and sanitizer builds were 2m31s and about 7 minutes of a fresh clone's 24-minute test run on 2
+# cores (docs/benchmarks.md). tools/test.sh builds build-asan/ through it too.
+source tools/ccache_env.sh
 # A unity build (CMake compiles the sources in batches, each header parsed once a batch): a fresh
 # build took 1m23s instead of 2m36s on 2 cores, with the same output bytes (docs/benchmarks.md).
-# A configure that failed half-way leaves a cache but no Makefile: configure again then.
-if [ ! -f build/Makefile ]; then
-  cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" -DCMAKE_UNITY_BUILD=ON >/dev/null
+# A configure that failed half-way leaves a cache but no Makefile: configure again then; a build
+# folder configured without the compiler cache is configured again with it.
+if [ ! -f build/Makefile ] || ! grep -qs "^CMAKE_CXX_COMPILER_LAUNCHER:.*=${compiler_launcher}\$" build/CMakeCache.txt; then
+  cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" -DCMAKE_UNITY_BUILD=ON \
+    -DCMAKE_CXX_COMPILER_LAUNCHER="$compiler_launcher" >/dev/null
 fi
 cmake --build build --parallel "$(nproc)" ${targets[@]:+--target "${targets[@]}"} -- --no-print-directory

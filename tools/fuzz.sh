@@ -24,8 +24,9 @@ if [ ! -x "$out/fuzz_las" ] || [ -n "$(find "${sources[@]}" include -newer "$out
   objects=()
   for source in "${sources[@]}"; do objects+=("$out/objects/$(echo "$source" | tr / _).o"); done
   running=()
+  source tools/ccache_env.sh # the objects through the compiler cache, as the other builds
   for i in "${!sources[@]}"; do
-    clang++-14 "${flags[@]}" -c "${sources[$i]}" -o "${objects[$i]}" &
+    $compiler_launcher clang++-14 "${flags[@]}" -c "${sources[$i]}" -o "${objects[$i]}" &
     running+=($!)
     if [ ${#running[@]} -ge "$(nproc)" ]; then wait "${running[0]}"; running=("${running[@]:1}"); fi # set -e: a failure stops here
   done
