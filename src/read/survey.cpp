@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <map>
 
@@ -203,6 +204,18 @@ void choose_crs(Survey& survey, const DeclaredCrs& declared, const SurveyOptions
 
 } // namespace
 
+namespace {
+
+// A pipe (a FIFO, a process substitution, a terminal) gives its bytes once.
+bool is_pipe(const std::string& path) {
+    std::error_code failed;
+    const std::filesystem::file_type type = std::filesystem::status(path, failed).type();
+    return !failed && (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::character ||
+                       type == std::filesystem::file_type::socket);
+}
+
+} // namespace
+
 Survey read_survey(const std::vector<std::string>& paths, const SurveyOptions& options, LasReader* open_first) {
     Survey survey;
     DeclaredCrs declared;
@@ -213,6 +226,13 @@ Survey read_survey(const std::vector<std::string>& paths, const SurveyOptions& o
             throw Error(ErrorKind::usage,
                         "standard input (-) must be the only input: with several inputs each is read twice, "
                         "its header first, and a pipe can be read once",
+                        "inputs");
+        // The same for any other pipe: opened again after its header was read, it would go on
+        // from where the header ended and be "not a LAS file".
+        if (paths.size() > 1 && !(i == 0 && open_first) && is_pipe(path))
+            throw Error(ErrorKind::usage,
+                        path + " is a pipe, not a file: with several inputs each is read twice, its header "
+                               "first, and a pipe can be read once; save it to a file, or give it alone",
                         "inputs");
         try {
             std::unique_ptr<LasReader> opened;

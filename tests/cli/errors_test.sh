@@ -115,6 +115,14 @@ expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
   "OCL_ICD_VENDORS=$dir/folder $L ok.las"
+expect "standard input among several inputs" 1 'standard input (-) must be the only input: with several inputs each is read twice, its header first, and a pipe can be read once' "cat ok.las | $L ok.las -"
+expect "a pipe among several inputs" 1 'is a pipe, not a file: with several inputs each is read twice, its header first, and a pipe can be read once; save it to a file, or give it alone' "$L ok.las <(cat ok.las)"
+expect "... even with --skip-bad-inputs (a usage error, not a bad file)" 1 'is a pipe, not a file' "$L ok.las <(cat ok.las) --skip-bad-inputs"
+"$lasmesh" info ok.las <(cat ok.las) > info.txt; rc=$?
+check "lasmesh info reads each header once: both shown (exit $rc)" test "$rc" -eq 0 -a "$(grep -c '^input ' info.txt)" -eq 2
+check "... and says the survey cannot be meshed as one, and why" grep -qF 'cannot be meshed as one: /dev/fd/' info.txt
+"$lasmesh" <(cat ok.las) -o alone.ply -q; rc=$?
+check "a pipe alone is read once, as standard input is (exit $rc)" test "$rc" -eq 0 -a -s alone.ply
 expect "--scan-bounds on a pipe" 1 'scanning the bounds reads the input twice, so it needs a regular file, not "-": save the stream to a file, or give the bounds (--scan-bounds)' "cat ok.las | $L - --scan-bounds"
 # The kernel build failure (the build log in the message) cannot be caused from the command line:
 # tests/accumulate_test.cpp builds a broken kernel through the same function.
