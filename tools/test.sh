@@ -73,8 +73,9 @@ rm -rf "$probe"
 # looks leaked), never hide one; what OpenSSL and the dynamic loader keep per thread is suppressed
 # (tools/lsan_tls.supp). The unit tests, which do not link OpenSSL, keep the default.
 # Two at a time, in two queues of about the same length on 2 cores (measured under the
-# sanitizers: unit 2.5 min, cli_mesh 3.5, browser_view 1.7, cli_tiles 1.5, cli_errors 0.9):
-# the unit tests then two command-line tests in the background, the other three here.
+# sanitizers: unit 3.4 min, cli_mesh 3.6, browser_view 1.7-1.9, cli_tiles 1.8-2.0, cli_errors
+# 0.8, cli_laz 0.15): the unit tests then two command-line tests in the background (6.1 min),
+# the other three here (5.5-5.7 min); one queue of the five after the unit tests took 7.4 min.
 (cd build-asan && export LASMESH_SANITIZED=1 UBSAN_OPTIONS=print_stacktrace=1 ASAN_OPTIONS="detect_leaks=$detect_leaks"
   command_lsan="suppressions=$PWD/../tools/lsan_tls.supp:use_tls=0:print_suppressions=0"
   { unit=0
