@@ -236,9 +236,10 @@ TEST_CASE("simplify: a deck's sheets at half a cell, flip-free and the same for 
     const Mesh m = simplify(1);
     MESSAGE("deck: " << original.triangles.size() << " to " << m.triangles.size() << " triangles");
     CHECK(m.triangles.size() * 4 <= original.triangles.size());
-    // The least-error collapse of each vertex and the waiting of vertices whose faces carry most
-    // of the bound keep it under 4,300 triangles (4,115 as built; about 14% more without them).
-    CHECK(m.triangles.size() <= 4300);
+    // The least-error collapse of each vertex, the waiting of vertices whose faces carry most of
+    // the bound and the cost of the error a vertex's faces carry already keep it under 4,100
+    // triangles (3,874 as built; 4,290 when the cost leaves out the carried error).
+    CHECK(m.triangles.size() <= 4100);
     const SimplifyCheck check = check_simplified(original, m);
     CHECK(check.flipped == 0);
     CHECK(check.unmatched_vertices == 0);
