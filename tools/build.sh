@@ -67,9 +67,9 @@ fi
 build_type=${LASMESH_BUILD_TYPE:-Release}
 # ccache keeps each compiled object by the hash of its preprocessed source and flags, so building
 # the same sources again, in this tree or in another clone of it (paths under the tree are hashed
-# relative to it: CCACHE_BASEDIR, CCACHE_NOHASHDIR), takes seconds instead of minutes: the release
-# and sanitizer builds were 2m31s and about 7 minutes of a fresh clone's 24-minute test run on 2
-# cores (docs/benchmarks.md). tools/test.sh builds build-asan/ through it too.
+# relative to it: CCACHE_BASEDIR, CCACHE_NOHASHDIR), takes seconds instead of minutes: a fresh
+# clone's test run took 25 minutes on 2 cores with nothing in the cache and 12.5 with the objects
+# in it (docs/testing.md, "How long it takes"). tools/test.sh builds build-asan/ through it too.
 source tools/ccache_env.sh
 # A unity build (CMake compiles the sources in batches, each header parsed once a batch): a fresh
 # build took 1m23s instead of 2m36s on 2 cores, with the same output bytes (docs/benchmarks.md).

@@ -75,7 +75,7 @@ rm -rf "$probe"
 # Two at a time, in two queues of about the same length on 2 cores (measured under the
 # sanitizers: unit 3.4 min, cli_mesh 3.6, browser_view 1.7-1.9, cli_tiles 1.8-2.0, cli_errors
 # 0.8, cli_laz 0.15): the unit tests then two command-line tests in the background (6.1 min),
-# the other three here (5.5-5.7 min); one queue of the five after the unit tests took 7.4 min.
+# the other three here (5.5-5.7 min). The five in one queue beside the unit tests took 8.2 min.
 (cd build-asan && export LASMESH_SANITIZED=1 UBSAN_OPTIONS=print_stacktrace=1 ASAN_OPTIONS="detect_leaks=$detect_leaks"
   command_lsan="suppressions=$PWD/../tools/lsan_tls.supp:use_tls=0:print_suppressions=0"
   { unit=0

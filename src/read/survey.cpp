@@ -202,10 +202,6 @@ void choose_crs(Survey& survey, const DeclaredCrs& declared, const SurveyOptions
                                ") transformed into " + crs_identity(*target) + " with PROJ");
 }
 
-} // namespace
-
-namespace {
-
 // A pipe (a FIFO, a process substitution, a terminal) gives its bytes once.
 bool is_pipe(const std::string& path) {
     std::error_code failed;
