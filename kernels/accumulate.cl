@@ -31,18 +31,21 @@
 // RGB_OFFSET=n when the point format has colour (byte offset of red).
 //
 // Cell record, 32-bit words (the low bits of each sum): count, sum x, sum y, sum z (raw LAS units
-// from the cell's start), then with colour the sums of red, green, blue and one unused word
-// (32 bytes: two cells a cache line).
+// from the cell's start), then with colour the sums of red, green, blue and one unused word, then
+// the second moments of the offsets from the cell's start: sums of xx, yy, zz, xy, xz, yz (the
+// points' spread inside the cell, which tells a plate scanned on both faces from one face; the
+// host bounds the cells so that each fits 64 bits).
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
 #define B (1 << BRICK_BITS)
 #define PENDING 0xFFFFFFFFu
 #ifdef RGB_OFFSET
-#define CELL_WORDS 8
+#define MOMENT_WORD 8
 #else
-#define CELL_WORDS 4
+#define MOMENT_WORD 4
 #endif
+#define CELL_WORDS (MOMENT_WORD + 6)
 
 // Fetching a cell's line ahead of its atomic add. OpenCL's prefetch() does nothing on PoCL's CPU
 // device, so there the host asks for the compiler's (clang's) own prefetch for writing.
@@ -186,17 +189,29 @@ global uint* brick_words(uint slot, POOL_ARGS) {
     return base + (ulong)at * (B * B * B * CELL_WORDS);
 }
 
+// A run's sums for one cell: count, x, y, z, red, green, blue, then xx, yy, zz, xy, xz, yz.
+typedef struct {
+    ulong n, x, y, z, r, g, b, m[6];
+} RunSums;
+
 // Adds a run's sums to its cell's record, the pool's words key.. (count, x, y, z, then red,
-// green, blue).
-void flush(volatile global uint* record, ulong key, ulong n, ulong sx, ulong sy, ulong sz, ulong r, ulong g, ulong b,
-           Carries carries) {
-    if (n == 0) return;
-    add_two_words(record, key, n, sx, carries);
-    if (sy | sz) add_two_words(record + 2, key + 2, sy, sz, carries);
+// green, blue, then the moments).
+void flush(volatile global uint* record, ulong key, const RunSums* s, Carries carries) {
+    if (s->n == 0) return;
+    add_two_words(record, key, s->n, s->x, carries);
+    if (s->y | s->z) add_two_words(record + 2, key + 2, s->y, s->z, carries);
 #ifdef RGB_OFFSET
-    if (r | g) add_two_words(record + 4, key + 4, r, g, carries);
-    if (b) add_word(record + 6, key + 6, b, carries); // alone: a spill into the unused word would be listed
+    if (s->r | s->g) add_two_words(record + 4, key + 4, s->r, s->g, carries);
+    if (s->b) add_word(record + 6, key + 6, s->b, carries); // alone: a spill into the unused word would be listed
 #endif
+    for (int k = 0; k < 6; k += 2)
+        if (s->m[k] | s->m[k + 1])
+            add_two_words(record + MOMENT_WORD + k, key + MOMENT_WORD + k, s->m[k], s->m[k + 1], carries);
+}
+
+void clear_sums(RunSums* s) {
+    s->n = s->x = s->y = s->z = s->r = s->g = s->b = 0;
+    for (int k = 0; k < 6; ++k) s->m[k] = 0;
 }
 
 // Adds records first..end-1 of the slice, or of the list when `listed` is not null (at most RUN).
@@ -242,30 +257,38 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
     // The current cell and its sums, flushed once per change of cell.
     global uint* cell = 0;
     ulong key = 0;
-    ulong n = 0, sx = 0, sy = 0, sz = 0, sr = 0, sg = 0, sb = 0;
+    RunSums s;
+    clear_sums(&s);
     for (uint k = 0; k < n_records; ++k) {
         if (!cells[k]) continue;
         if (cells[k] != cell) {
-            flush(cell, key, n, sx, sy, sz, sr, sg, sb, carries);
-            n = sx = sy = sz = sr = sg = sb = 0;
+            flush(cell, key, &s, carries);
+            clear_sums(&s);
             cell = cells[k], key = keys[k];
         }
-        n += 1;
-        sx += offsets[k][0];
-        sy += offsets[k][1];
-        sz += offsets[k][2];
+        const ulong ox = offsets[k][0], oy = offsets[k][1], oz = offsets[k][2];
+        s.n += 1;
+        s.x += ox;
+        s.y += oy;
+        s.z += oz;
+        s.m[0] += ox * ox;
+        s.m[1] += oy * oy;
+        s.m[2] += oz * oz;
+        s.m[3] += ox * oy;
+        s.m[4] += ox * oz;
+        s.m[5] += oy * oz;
 #ifdef RGB_OFFSET
         const uint r = listed ? listed[first + k] : first + k;
         global const uchar* record = records + (ulong)r * record_length;
         const uint red = load_u16(record + RGB_OFFSET), green = load_u16(record + RGB_OFFSET + 2),
                    blue = load_u16(record + RGB_OFFSET + 4);
-        sr += red;
-        sg += green;
-        sb += blue;
+        s.r += red;
+        s.g += green;
+        s.b += blue;
         largest = max(largest, max(red, max(green, blue)));
 #endif
     }
-    flush(cell, key, n, sx, sy, sz, sr, sg, sb, carries);
+    flush(cell, key, &s, carries);
     // stats[0..1]: points outside the grid, a 64-bit sum; stats[2]: the largest colour word, which
     // tells 8-bit from 16-bit colour (read first: the shared word is written only when it grows).
     if (outside) add_pair(stats, outside);

@@ -88,6 +88,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             static_cast<std::uint32_t>((plan.grid.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
     }
     grid.scale = header.scale, grid.offset = header.offset;
+    grid.moments = true; // every tile's file holds its cells' moments
     // Bricks in ascending key order from every tile (the tiles hold disjoint bricks).
     std::vector<std::tuple<std::uint64_t, std::uint32_t, std::uint32_t>> order; // key, tile, brick
     for (std::size_t k = 0; k < tiles.size(); ++k) {

@@ -36,7 +36,7 @@ bool sums_equal(const CellGrid& a, const CellGrid& b) {
     a.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
         const CellSums* other = b.find(at[0], at[1], at[2]);
         equal = equal && other && a.cells[r].count == other->count && a.cells[r].position == other->position &&
-                a.cells[r].color == other->color;
+                a.cells[r].color == other->color && a.cells[r].moments == other->moments;
     });
     return equal;
 }
@@ -306,11 +306,15 @@ TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole 
             }
             CellSums& sums = expected[cell];
             sums.count += 1;
+            std::array<std::uint64_t, 3> offset{};
             for (int a = 0; a < 3; ++a) {
-                sums.position[a] +=
+                offset[a] =
                     static_cast<std::uint64_t>(raw[a] - whole.axes[a].starts[static_cast<std::size_t>(cell[a])]);
+                sums.position[a] += offset[a];
                 sums.color[a] += 65535;
             }
+            for (std::size_t k = 0; k < 6; ++k) // modulo 2^64, as the grid keeps them
+                sums.moments[k] += offset[moment_axes[k][0]] * offset[moment_axes[k][1]];
         }
     }
     REQUIRE(expected[{0, 0, 0}].position[0] > (std::uint64_t{1} << 44)); // thousands of wraps
@@ -325,6 +329,7 @@ TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole 
             CHECK(got->count == sums.count);
             CHECK(got->position == sums.position);
             CHECK(got->color == sums.color);
+            CHECK(got->moments == sums.moments);
         }
     }
 }
@@ -617,10 +622,13 @@ HostSums host_sums(const std::string& path, const GridSpec& g) {
         }
         CellSums& c = sums.cells[cell];
         ++c.count;
+        std::array<std::uint64_t, 3> offset{};
         for (int a = 0; a < 3; ++a) {
-            c.position[a] += static_cast<std::uint64_t>(raw[a] - starts[a][static_cast<std::size_t>(cell[a])]);
+            offset[a] = static_cast<std::uint64_t>(raw[a] - starts[a][static_cast<std::size_t>(cell[a])]);
+            c.position[a] += offset[a];
             if (rgb >= 0) c.color[a] += load_le<std::uint16_t>(record + rgb + 2 * a);
         }
+        for (std::size_t k = 0; k < 6; ++k) c.moments[k] += offset[moment_axes[k][0]] * offset[moment_axes[k][1]];
     }
     return sums;
 }
@@ -632,7 +640,7 @@ void check_against_host(const CellGrid& g, const HostSums& expected) {
     for (const auto& [cell, sums] : expected.cells) {
         const CellSums* got = g.find(cell[0], cell[1], cell[2]);
         const bool same = got && got->count == sums.count && got->position == sums.position &&
-                          (!g.has_color() || got->color == sums.color);
+                          (!g.has_color() || got->color == sums.color) && got->moments == sums.moments;
         if (!same && ++wrong <= 3) {
             MESSAGE("cell " << cell[0] << " " << cell[1] << " " << cell[2] << ": expected count " << sums.count
                             << ", position " << sums.position[0] << " " << sums.position[1] << " " << sums.position[2]);

@@ -189,7 +189,7 @@ TEST_CASE("survey: files with their own offsets, scales and formats: one frame, 
         const CellSums& a = one_grid.cells[record];
         const CellSums* b = parts_grid.find(at[0], at[1], at[2]);
         ++cells;
-        same += b && b->count == a.count && b->position == a.position && b->color == a.color;
+        same += b && b->count == a.count && b->position == a.position && b->color == a.color && b->moments == a.moments;
     });
     CHECK(cells == parts_grid.occupied_cells());
     CHECK(same == cells);

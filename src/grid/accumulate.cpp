@@ -51,6 +51,13 @@ std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_
         per_point += static_cast<std::uint64_t>(widest);
     }
     if (color) per_point += 3 * 65535;
+    unsigned __int128 widest_squared = 0; // the moments: six products of two offsets
+    for (const AxisCells& axis : axes)
+        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i) {
+            const auto w = static_cast<unsigned __int128>(axis.starts[i + 1] - axis.starts[i]);
+            widest_squared = std::max(widest_squared, w * w);
+        }
+    per_point += 6 * widest_squared;
     const unsigned __int128 over_run = (3 * per_point * points >> 32) + 1;
     const std::uint64_t between_reads = points_between_reads * cell_words(color);
     return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
@@ -90,6 +97,7 @@ class DeviceAccumulation {
     void plan_slices() {
         out_.spec = grid_for(header_, options_);
         out_.color = color_;
+        out_.moments = true;
         out_.scale = header_.scale;
         out_.offset = header_.offset;
         out_.bricks = brick_dims(out_.spec);
@@ -410,7 +418,7 @@ class DeviceAccumulation {
         // Room for every cell of every brick, in address space only: pages are taken as written.
         out_.cells.reserve(used_ * CellGrid::brick_cells);
         advise_large_pages(out_.cells.data(), out_.cells.capacity() * sizeof(CellSums));
-        const std::uint64_t words = cell_words(color_);
+        const std::uint64_t words = cell_words(color_), moments = moment_word(color_);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes_);
         auto carry = carries_.begin();
         std::array<CellSums, CellGrid::brick_cells> brick{};
@@ -430,17 +438,19 @@ class DeviceAccumulation {
                         brick[k].count = src[0];
                         brick[k].position = {src[1], src[2], src[3]};
                         if (color_) brick[k].color = {src[4], src[5], src[6]};
+                        for (std::size_t m = 0; m < 6; ++m) brick[k].moments[m] = src[moments + m];
                     }
                     const std::uint64_t first_key = slot * CellGrid::brick_cells * words;
                     for (; carry != carries_.end() && carry->key < first_key + CellGrid::brick_cells * words; ++carry) {
                         CellSums& cell = brick[(carry->key - first_key) / words];
                         const std::uint64_t word = (carry->key - first_key) % words;
-                        if (word > 6) // the unused eighth word is never added to
+                        if (color_ && word == 7) // the unused eighth word is never added to
                             throw Error(ErrorKind::device,
                                         "a carry for an unused word of the pool: the kernel is wrong");
-                        std::uint64_t& sum = word == 0  ? cell.count
-                                             : word < 4 ? cell.position[word - 1]
-                                                        : cell.color[word - 4];
+                        std::uint64_t& sum = word == 0         ? cell.count
+                                             : word < 4        ? cell.position[word - 1]
+                                             : word >= moments ? cell.moments[word - moments]
+                                                               : cell.color[word - 4];
                         sum += carry->delta;
                     }
                     const std::uint64_t b = position_of_slot[slot];

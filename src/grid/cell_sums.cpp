@@ -85,6 +85,29 @@ Vec3 CellGrid::centroid(const std::array<std::int64_t, 3>& cell, const CellSums&
     return p;
 }
 
+bool CellGrid::moments_exact() const {
+    if (!moments) return false;
+    unsigned __int128 widest = 0;
+    for (const AxisCells& axis : axes)
+        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i)
+            widest = std::max(widest, static_cast<unsigned __int128>(axis.starts[i + 1] - axis.starts[i]));
+    const unsigned __int128 fullest = fullest_cell();
+    return widest < (std::uint64_t{1} << 32) && fullest * widest * widest < (static_cast<unsigned __int128>(1) << 64);
+}
+
+std::array<double, 6> CellGrid::scatter(const CellSums& sums) const {
+    std::array<double, 6> s{};
+    if (sums.count == 0) return s;
+    const double n = static_cast<double>(sums.count);
+    for (std::size_t k = 0; k < 6; ++k) {
+        const int a = moment_axes[k][0], b = moment_axes[k][1];
+        const double raw = static_cast<double>(sums.moments[k]) -
+                           static_cast<double>(sums.position[a]) * static_cast<double>(sums.position[b]) / n;
+        s[k] = raw * scale[a] * scale[b];
+    }
+    return s;
+}
+
 GridSpec grid_for(const LasHeader& header, const AccumulateOptions& options) {
     if (options.spec) return *options.spec;
     return make_grid_spec(options.bounds.value_or(Bounds{header.min, header.max}), options.grid);

@@ -45,7 +45,12 @@ struct CellSums {
     // points' mean position inside the cell, exactly and in any order.
     std::array<std::uint64_t, 3> position{};
     std::array<std::uint64_t, 3> color{}; // sums of the stored 16-bit R, G, B words
+    // Sums of the products of those offsets: xx, yy, zz, xy, xz, yz (modulo 2^64: exact while a
+    // cell's count times its widest axis squared stays under 2^64, CellGrid::moments_exact).
+    std::array<std::uint64_t, 6> moments{};
 };
+// The two axes of each moment sum.
+constexpr std::array<std::array<int, 2>, 6> moment_axes{{{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
 
 // Bricks by linear key (x fastest): an open-addressing hash table with linear probing, so that
 // looking a brick up takes memory and set-up time that follow the occupied bricks, not the volume
@@ -101,7 +106,8 @@ struct CellGrid {
     std::vector<std::uint64_t> brick_masks;
     std::vector<std::uint64_t> brick_first;
     std::vector<CellSums> cells;
-    bool color = false; // the point format has colour, and some point's colour is not 0
+    bool color = false;   // the point format has colour, and some point's colour is not 0
+    bool moments = false; // the cells' moments were summed (accumulated, not made by hand)
     std::uint64_t points_read = 0;
     std::uint64_t points_outside = 0;
     std::uint32_t color_max_word = 0; // the largest R, G or B word in the file
@@ -170,6 +176,12 @@ struct CellGrid {
     Rgb8 mean_color(const CellSums& cell) const;
     // The mean position of a cell's points, relative to spec.origin.
     Vec3 centroid(const std::array<std::int64_t, 3>& cell, const CellSums& sums) const;
+    // Whether every cell's moments are there and are its exact sums (not wrapped modulo 2^64): the fullest
+    // cell's count times the widest cell's span squared, in raw units, is under 2^64.
+    bool moments_exact() const;
+    // The scatter of a cell's points about their centroid, sum (p - c)(p - c)^T in the grid's units
+    // (xx, yy, zz, xy, xz, yz): its points' spread, the count times their covariance.
+    std::array<double, 6> scatter(const CellSums& sums) const;
 };
 
 // Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows

@@ -26,6 +26,7 @@ CellGrid coarsen_grid(const CellGrid& fine) {
         coarse.bricks[a] = static_cast<std::uint32_t>((coarse.spec.dims[a] + size - 1) / size);
     }
     coarse.color = fine.color;
+    coarse.moments = fine.moments;
     coarse.scale = fine.scale;
     coarse.offset = fine.offset;
     coarse.points_read = fine.points_read;
@@ -58,12 +59,20 @@ CellGrid coarsen_grid(const CellGrid& fine) {
                 CellSums& to = sums[static_cast<std::size_t>(
                     (((cell[2] >> 1) & m) * size + ((cell[1] >> 1) & m)) * size + ((cell[0] >> 1) & m))];
                 to.count += from.count;
+                std::array<std::uint64_t, 3> shift{};
                 for (int a = 0; a < 3; ++a) {
                     // Position sums count from the cell's first raw value: the fine cell starts later.
-                    const std::int64_t shift = fine.axes[a].starts[static_cast<std::size_t>(cell[a])] -
-                                               coarse.axes[a].starts[static_cast<std::size_t>(cell[a] >> 1)];
-                    to.position[a] += from.position[a] + from.count * static_cast<std::uint64_t>(shift);
+                    shift[a] =
+                        static_cast<std::uint64_t>(fine.axes[a].starts[static_cast<std::size_t>(cell[a])] -
+                                                   coarse.axes[a].starts[static_cast<std::size_t>(cell[a] >> 1)]);
+                    to.position[a] += from.position[a] + from.count * shift[a];
                     to.color[a] += from.color[a];
+                }
+                // sum (p + s)(q + t) = sum pq + t sum p + s sum q + n s t, modulo 2^64 as the device's.
+                for (std::size_t k = 0; k < 6; ++k) {
+                    const int a = moment_axes[k][0], b = moment_axes[k][1];
+                    to.moments[k] += from.moments[k] + shift[b] * from.position[a] + shift[a] * from.position[b] +
+                                     from.count * shift[a] * shift[b];
                 }
             }
         }

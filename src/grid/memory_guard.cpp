@@ -46,6 +46,10 @@ std::string dims_text(const GridSpec& g) {
 }
 
 std::uint64_t cell_words(bool color) {
+    return moment_word(color) + 6;
+}
+
+std::uint64_t moment_word(bool color) {
     return color ? 8 : 4;
 }
 

@@ -21,6 +21,8 @@ std::string mib(std::uint64_t bytes);
 std::string dims_text(const GridSpec& grid);
 // 32-bit words a cell takes on the device.
 std::uint64_t cell_words(bool color);
+// The first of a cell's six moment words (kernels/accumulate.cl).
+std::uint64_t moment_word(bool color);
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid);
 std::uint64_t brick_count(const GridSpec& grid);
 // The pool's first chunk, counted before reading (bricks with colour, the larger kind).

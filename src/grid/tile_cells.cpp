@@ -14,7 +14,7 @@ namespace lasmesh {
 
 namespace {
 
-constexpr char magic[9] = "LMTILE01";
+constexpr char magic[9] = "LMTILE02";
 constexpr std::uint64_t fnv_start = 0xcbf29ce484222325ULL, fnv_prime = 0x100000001b3ULL;
 
 void hash_into(std::uint64_t& hash, const std::byte* data, std::size_t size) {
@@ -126,6 +126,7 @@ std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path) {
         out.word(cell.count);
         for (const std::uint64_t p : cell.position) out.word(p);
         for (const std::uint64_t c : cell.color) out.word(c);
+        for (const std::uint64_t m : cell.moments) out.word(m);
     }
     out.finish();
     file.commit();
@@ -140,7 +141,7 @@ TileCells read_tile_cells(const std::string& path) {
     in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     if (!in) throw_input_error(path, "cannot be read");
     if (bytes.size() < 8 || std::memcmp(bytes.data(), magic, 8) != 0)
-        throw_input_error(path, "not a lasmesh tile's cell sums (bytes 0-7 are not \"LMTILE01\")");
+        throw_input_error(path, "not a lasmesh tile's cell sums (bytes 0-7 are not \"LMTILE02\")");
     WordReader read(std::move(bytes), path);
     TileCells tile;
     // The magic's bytes count in the hash: read them as a word (its value is not needed).
@@ -164,11 +165,12 @@ TileCells read_tile_cells(const std::string& path) {
     tile.brick_keys.resize(bricks), tile.brick_masks.resize(bricks), tile.brick_first.resize(bricks);
     for (std::size_t b = 0; b < bricks; ++b)
         tile.brick_keys[b] = read.word(), tile.brick_masks[b] = read.word(), tile.brick_first[b] = read.word();
-    tile.cells.resize(read.count(56, "cells"));
+    tile.cells.resize(read.count(104, "cells"));
     for (CellSums& cell : tile.cells) {
         cell.count = read.word();
         for (std::uint64_t& p : cell.position) p = read.word();
         for (std::uint64_t& c : cell.color) c = read.word();
+        for (std::uint64_t& m : cell.moments) m = read.word();
     }
     read.check_hash();
     // What merge relies on: keys ascending, each brick's cells inside the cells, in order.

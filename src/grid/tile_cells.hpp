@@ -4,12 +4,12 @@
 // words throughout, after an 8-byte magic, and an FNV-1a hash of every byte before it at the end,
 // so a file cut short or damaged in storage is told from a good one.
 //
-//   "LMTILE01"  plan hash, tile index, colour (0/1), largest colour word
+//   "LMTILE02"  plan hash, tile index, colour (0/1), largest colour word
 //   device name (length, bytes)
 //   inputs read: count, then per input (index in the plan, records, records outside the grid)
 //   warnings: count, then per warning (input index, length, bytes)
-//   bricks: count, then per brick (key, mask, first cell); cells: count, then 7 words a cell
-//   FNV-1a 64 of everything above
+//   bricks: count, then per brick (key, mask, first cell); cells: count, then 13 words a cell (count, position, colour,
+//   moments) FNV-1a 64 of everything above
 #pragma once
 
 #include "grid/cell_sums.hpp"
