@@ -167,6 +167,8 @@ void check_on_globe(const std::string& input, const std::string& crs, int grid, 
 
     const TriangleSearch search(mesh);
     const PointSearch mesh_vertices(mesh.positions);
+    std::map<std::array<float, 3>, std::vector<std::uint32_t>> at_position;
+    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) at_position[mesh.positions[v]].push_back(v);
     double least_dot = 1; // a tile's normal against PROJ's turn of the mesh's normal at that vertex
     std::vector<NodeAt> nodes;
     walk(tileset["root"], nullptr, 0, nodes);
@@ -186,20 +188,26 @@ void check_on_globe(const std::string& input, const std::string& crs, int grid, 
             ++vertices;
             std::uint32_t nearest = 0;
             mesh_vertices.distance(local, &nearest);
-            double ends[2][3];
-            for (int e = 0; e < 2; ++e)
-                for (int a = 0; a < 3; ++a)
-                    ends[e][a] = mesh.origin[a] + mesh.positions[nearest][a] + e * mesh.normals[nearest][a];
-            REQUIRE(to_ecef.apply(&ends[0][0], &ends[0][1], &ends[0][2], 1) == 1);
-            REQUIRE(to_ecef.apply(&ends[1][0], &ends[1][1], &ends[1][2], 1) == 1);
-            const auto& n = tile.normals[v];
-            double dot = 0, length = 0;
-            for (int a = 0; a < 3; ++a) {
-                const double expected = ends[1][a] - ends[0][a];
-                dot += expected * (m[a] * n[0] + m[4 + a] * n[1] + m[8 + a] * n[2]);
-                length += expected * expected;
+            // Where a plate's two faces meet at its rim, each face has a vertex there, the normals
+            // opposite: the tile's vertex is one of them.
+            double best = -1;
+            for (const std::uint32_t same : at_position[mesh.positions[nearest]]) {
+                double ends[2][3];
+                for (int e = 0; e < 2; ++e)
+                    for (int a = 0; a < 3; ++a)
+                        ends[e][a] = mesh.origin[a] + mesh.positions[same][a] + e * mesh.normals[same][a];
+                REQUIRE(to_ecef.apply(&ends[0][0], &ends[0][1], &ends[0][2], 1) == 1);
+                REQUIRE(to_ecef.apply(&ends[1][0], &ends[1][1], &ends[1][2], 1) == 1);
+                const auto& n = tile.normals[v];
+                double dot = 0, length = 0;
+                for (int a = 0; a < 3; ++a) {
+                    const double expected = ends[1][a] - ends[0][a];
+                    dot += expected * (m[a] * n[0] + m[4 + a] * n[1] + m[8 + a] * n[2]);
+                    length += expected * expected;
+                }
+                best = std::max(best, dot / std::sqrt(length));
             }
-            least_dot = std::min(least_dot, dot / std::sqrt(length));
+            least_dot = std::min(least_dot, best);
         }
     }
     CHECK(vertices > 150); // every vertex of every tile is checked: not a handful

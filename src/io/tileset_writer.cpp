@@ -138,7 +138,8 @@ WrittenTileset write_tileset(const std::vector<TilesetLevel>& levels, const Tile
     std::vector<std::map<TileKey, TileNode>> nodes(levels.size());
     for (std::size_t k = 0; k < levels.size(); ++k) {
         const double edge = lattice.root_edge / std::ldexp(1.0, static_cast<int>(k));
-        std::vector<MeshTile> tiles = split_into_tiles(*levels[k].mesh, lattice.corner, edge);
+        std::vector<MeshTile> tiles =
+            split_into_tiles(*levels[k].mesh, lattice.corner, edge, std::int64_t{1} << static_cast<int>(k));
         fs::create_directory(temporary.path / std::to_string(k), failed);
         std::size_t triangles = 0;
         for (MeshTile& tile : tiles) {

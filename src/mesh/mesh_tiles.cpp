@@ -8,7 +8,7 @@
 
 namespace lasmesh {
 
-std::vector<MeshTile> split_into_tiles(const Mesh& mesh, const Vec3& corner, double edge) {
+std::vector<MeshTile> split_into_tiles(const Mesh& mesh, const Vec3& corner, double edge, std::int64_t count) {
     // The tile of each triangle, by its centroid in world coordinates.
     std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::uint32_t>> triangles_of; // (y, x)
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -16,7 +16,9 @@ std::vector<MeshTile> split_into_tiles(const Mesh& mesh, const Vec3& corner, dou
         for (const std::uint32_t v : mesh.triangles[t])
             for (int a = 0; a < 2; ++a) centroid[a] += mesh.positions[v][a];
         const auto cell = [&](int a) {
-            return static_cast<std::int64_t>(std::floor((centroid[a] / 3 + mesh.origin[a] - corner[a]) / edge));
+            const double at = std::floor((centroid[a] / 3 + mesh.origin[a] - corner[a]) / edge);
+            return std::clamp(static_cast<std::int64_t>(std::clamp(at, -1.0, static_cast<double>(count))),
+                              std::int64_t{0}, count - 1);
         };
         triangles_of[{cell(1), cell(0)}].push_back(t);
     }

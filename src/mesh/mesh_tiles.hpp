@@ -17,8 +17,10 @@ struct MeshTile {
     Mesh mesh;                 // in the mesh's frame (the same origin); colours and normals kept
 };
 
-// The non-empty tiles of `mesh` on the lattice whose tile (0, 0) starts at `corner` (world x, y)
-// and whose tiles are `edge` long, in order of y, then x.
-std::vector<MeshTile> split_into_tiles(const Mesh& mesh, const Vec3& corner, double edge);
+// The non-empty tiles of `mesh` on the lattice whose tile (0, 0) starts at `corner` (world x, y),
+// whose tiles are `edge` long and that has `count` tiles an axis, in order of y, then x. A
+// triangle whose centroid lies past the lattice (a plate's face moved out from a sheet at the
+// grid's edge) goes to the nearest tile.
+std::vector<MeshTile> split_into_tiles(const Mesh& mesh, const Vec3& corner, double edge, std::int64_t count);
 
 } // namespace lasmesh

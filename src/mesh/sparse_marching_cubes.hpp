@@ -61,6 +61,7 @@ struct VertexOut {
     std::array<float, 3> position{};
     std::array<float, 3> normal{};
     std::array<std::uint8_t, 3> color{};
+    float offset = 0; // a value of the field's own, per vertex (kept when run is given `offsets`)
 };
 
 // The lattice and the bricks of it to visit: every cube and edge that can carry surface must have
@@ -91,7 +92,8 @@ class SparseMarchingCubes {
 
     // `sampled`, when given, is called once the field's samplers are done with (after pass 0, for
     // a field undefined outside the active bricks): what only they read may go.
-    Mesh run(bool colored, const std::function<void()>& sampled = {}) {
+    // `offsets`, when given, receives each vertex's VertexOut::offset.
+    Mesh run(bool colored, const std::function<void()>& sampled = {}, std::vector<float>* offsets = nullptr) {
         const std::size_t n = l_.active.size();
         // Position of each active brick in `active`, + 1 (0: not active).
         slot_ = BrickTable(l_.active);
@@ -159,6 +161,7 @@ class SparseMarchingCubes {
         mesh.positions.resize(vertices_in[n]);
         mesh.normals.resize(vertices_in[n]);
         if (colored) mesh.colors.resize(vertices_in[n]);
+        if (offsets) offsets->assign(vertices_in[n], 0);
         mesh.triangles.resize(triangles_in[n]);
         const CubeEdges& edges = cube_edges();
 
@@ -177,6 +180,7 @@ class SparseMarchingCubes {
                     mesh.positions[v] = out.position;
                     mesh.normals[v] = out.normal;
                     if (colored) mesh.colors[v] = out.color;
+                    if (offsets) (*offsets)[v] = out.offset;
                     ++v;
                 }
             std::uint64_t t = triangles_in[b];
@@ -389,8 +393,8 @@ inline LatticeBricks lattice_near_data(const CellGrid& grid, std::array<std::int
 
 template <class Field>
 Mesh march_sparse(const Field& field, const LatticeBricks& lattice, bool colored,
-                  const std::function<void()>& sampled = {}) {
-    return SparseMarchingCubes<Field>(field, lattice).run(colored, sampled);
+                  const std::function<void()>& sampled = {}, std::vector<float>* offsets = nullptr) {
+    return SparseMarchingCubes<Field>(field, lattice).run(colored, sampled, offsets);
 }
 
 } // namespace lasmesh::detail

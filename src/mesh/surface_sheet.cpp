@@ -92,11 +92,18 @@ struct Planes {
     std::vector<Vec> normal;
     std::vector<std::uint64_t> count;
     std::vector<Rgb8> color; // the cell's mean colour (empty without colour)
-    std::vector<Tube> tube;  // with LinearParts::tubes: per plane, its tube (radius 0: none)
+    // The scatter of each cell's points about its centroid (CellGrid::scatter; empty when the grid
+    // holds no exact moments), until the thickness is estimated.
+    std::vector<std::array<float, 6>> scatter;
+    // Half the distance between the two faces of a plate scanned on both, per plane; 0: one face
+    // (empty: none found).
+    std::vector<float> half_thickness;
+    std::vector<Tube> tube; // with LinearParts::tubes: per plane, its tube (radius 0: none)
     // With LinearParts::tubes, per plane that is no tube but lies on tubes around it (a junction of
     // a rail and a post, a tube's end): those tubes' cells, no_plane after the last.
     std::vector<std::array<std::uint32_t, 4>> joins;
 
+    bool two_faced(std::uint32_t p) const { return !half_thickness.empty() && half_thickness[p] > 0; }
     // Whether p's surface is a tube or a union of tubes rather than a plane.
     bool tubular(std::uint32_t p) const { return !tube.empty() && (tube[p].radius > 0 || joins[p][0] != no_plane); }
     // The distance from `at` to the surface of p's tube, or of the nearest of the tubes it joins,
@@ -115,6 +122,7 @@ struct Planes {
 
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const CellGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
+        const bool moments = g.moments_exact();
         g.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
             if (!(static_cast<double>(g.cells[r].count) > iso)) return;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
@@ -122,6 +130,10 @@ struct Planes {
             centroid.push_back(g.centroid(at, g.cells[r]));
             count.push_back(g.cells[r].count);
             if (g.has_color()) color.push_back(g.mean_color(g.cells[r]));
+            if (moments) {
+                const std::array<double, 6> m = g.scatter(g.cells[r]);
+                scatter.push_back({float(m[0]), float(m[1]), float(m[2]), float(m[3]), float(m[4]), float(m[5])});
+            }
         });
         normal.resize(cell.size());
     }
@@ -196,8 +208,8 @@ void pool_split_layers(Planes& planes, double h) {
     tbb::parallel_for(std::size_t{0}, planes.cell.size(), [&](std::size_t p) {
         const Vec& n = planes.normal[p];
         const Vec& c = planes.centroid[p];
-        if (planes.tubular(static_cast<std::uint32_t>(p))) {
-            moved[p] = c;
+        if (planes.tubular(static_cast<std::uint32_t>(p)) || planes.two_faced(static_cast<std::uint32_t>(p))) {
+            moved[p] = c; // a plate's plane is at its points' middle already (estimate_thickness)
             return;
         }
         double total = static_cast<double>(planes.count[p]), offset = 0;
@@ -207,7 +219,7 @@ void pool_split_layers(Planes& planes, double h) {
             const double along = dot(n, d);
             const Vec across{d[0] - along * n[0], d[1] - along * n[1], d[2] - along * n[2]};
             if (std::abs(along) > 0.5 * h || dot(across, across) > h * h / 16 ||
-                std::abs(dot(n, planes.normal[q])) < 0.9 || planes.tubular(q))
+                std::abs(dot(n, planes.normal[q])) < 0.9 || planes.tubular(q) || planes.two_faced(q))
                 return;
             const double w = static_cast<double>(planes.count[q]);
             total += w, offset += w * along;
@@ -216,6 +228,141 @@ void pool_split_layers(Planes& planes, double h) {
         moved[p] = {c[0] + shift * n[0], c[1] + shift * n[1], c[2] + shift * n[2]};
     });
     planes.centroid = std::move(moved);
+}
+
+// The spread of the points along each plane's normal, with the layer's points (no tube: 0
+// points) and their mean's offset from the plane along it: the cells met along its normal line within 2.5 cells either
+// way (sampled every half cell), parallel to it, no tube, their centroids within half a cell of the line; their points'
+// variance along the normal about their common mean (each cell's own scatter, CellGrid::scatter,
+// and the cells' offsets together). Measured before the layers are pooled (the centroids are the
+// cells' own). A band of noisy points 10 cm wide spans three 6 cm cells: the 3 x 3 x 3 around an
+// edge cell of it miss the far one, and its spread came out a third short.
+void layer_spreads(const Planes& planes, double h, std::vector<double>& spread, std::vector<double>& points,
+                   std::vector<double>& middle) {
+    const std::size_t count = planes.cell.size();
+    spread.assign(count, 0), points.assign(count, 0), middle.assign(count, 0);
+    const auto along_normal = [&](std::uint32_t q, const Vec& n) {
+        const auto& m = planes.scatter[q];
+        return m[0] * n[0] * n[0] + m[1] * n[1] * n[1] + m[2] * n[2] * n[2] +
+               2 * (m[3] * n[0] * n[1] + m[4] * n[0] * n[2] + m[5] * n[1] * n[2]);
+    };
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t p) {
+        if (planes.tubular(static_cast<std::uint32_t>(p))) return;
+        const Vec& n = planes.normal[p];
+        const Vec& c = planes.centroid[p];
+        std::array<std::uint32_t, 11> layer;
+        std::size_t in_layer = 0;
+        layer[in_layer++] = static_cast<std::uint32_t>(p);
+        for (int k = -5; k <= 5; ++k) {
+            if (k == 0) continue;
+            std::array<std::int64_t, 3> at{};
+            for (int a = 0; a < 3; ++a) at[a] = static_cast<std::int64_t>(std::floor((c[a] + 0.5 * k * h * n[a]) / h));
+            const std::uint32_t q = planes.at(at[0], at[1], at[2]);
+            if (q == no_plane || std::find(layer.begin(), layer.begin() + in_layer, q) != layer.begin() + in_layer)
+                continue;
+            const Vec& m = planes.centroid[q];
+            const Vec d{m[0] - c[0], m[1] - c[1], m[2] - c[2]};
+            const double along = dot(n, d);
+            const Vec across{d[0] - along * n[0], d[1] - along * n[1], d[2] - along * n[2]};
+            if (std::abs(along) > 2.5 * h || dot(across, across) > h * h / 4 ||
+                std::abs(dot(n, planes.normal[q])) < 0.9 || planes.tubular(q))
+                continue;
+            layer[in_layer++] = q;
+        }
+        double total = 0, sum = 0, squares = 0, scattered = 0;
+        for (std::size_t i = 0; i < in_layer; ++i) {
+            const std::uint32_t q = layer[i];
+            const Vec& m = planes.centroid[q];
+            const double along = dot(n, Vec{m[0] - c[0], m[1] - c[1], m[2] - c[2]});
+            const double w = static_cast<double>(planes.count[q]);
+            total += w, sum += w * along, squares += w * along * along;
+            scattered += along_normal(q, n);
+        }
+        const double mean = sum / total;
+        spread[p] = std::max(0.0, (scattered + squares) / total - mean * mean);
+        points[p] = total;
+        middle[p] = mean;
+    });
+}
+
+// Step 1c: a plate scanned on both faces, thinner than a cell, puts both faces' points in one
+// layer of cells, and the sheet would run between them. Its layer's points spread along the
+// normal by the scan's noise and the plate together: two faces d apart, each seen with noise of
+// variance s^2, spread s^2 + d^2 / 4 about their middle (equal shares of points). The noise s^2
+// is the median spread of the layers (most of a scan is surfaces seen from one side); a plane
+// whose neighbours' layers (3 x 3 x 3, parallel, no tubes: their median, so that an edge or a
+// corner among them does not count) spread at least twice that holds two faces, d / 2 =
+// sqrt(spread - s^2) either side of it (and its neighbours must spread across its plane both ways,
+// over half a cell: a rail's cells lie along a line): at most half a cell (thicker, the faces are cells apart and
+// the sheet already has both), at least a tenth (closer, the outputs' quantization, a tenth of a
+// cell, would not keep them apart; and a scan without noise has no spread to compare with). The spread is a second
+// moment: the faces' shares and whether the points are two faces or one noisier surface are not told apart, only that
+// the spread is more than the scan's noise elsewhere explains.
+constexpr double two_faces_spread = 2;
+// A plate's neighbours spread across its plane in both directions, a rail's along one: the
+// neighbours' mean squared offset along the plane's narrower direction (the smaller eigenvalue of
+// their in-plane spread) is at least this many cells squared. Measured on a floor, a 3 cm plate
+// and a 5 cm rail at 6.5 cm cells with 1 cm of noise: the plate's cells 0.45 (5th percentile) to
+// 0.65 (median), the rail's 0.10 to 0.19 (75th percentile).
+constexpr double plate_min_width = 0.3;
+void estimate_thickness(Planes& planes, double h, const std::vector<double>& spread, const std::vector<double>& points,
+                        const std::vector<double>& middle) {
+    const std::size_t n = planes.cell.size();
+    // Layers of fewer points give too loose a spread to judge by.
+    constexpr double min_points = 8;
+    std::vector<double> usable;
+    for (std::size_t p = 0; p < n; ++p)
+        if (points[p] >= min_points) usable.push_back(spread[p]);
+    if (usable.size() < 16) return;
+    const auto half_way = usable.begin() + static_cast<std::ptrdiff_t>(usable.size() / 2);
+    std::nth_element(usable.begin(), half_way, usable.end());
+    const double noise = *half_way;
+    // A cell more than 16 times the noise across holds more of the surfaces' shape than of their
+    // noise: its layers gather other surfaces along the normal, and a plate a tenth of a cell
+    // thick is many times the noise (the generated deck's walls were found at 6 and 12 cm cells,
+    // and at 25 and 50 cm only layers that met other surfaces were).
+    if (!(noise > 0) || h > 16 * std::sqrt(noise)) return;
+    std::vector<float> half(n, 0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+        if (points[p] < min_points) return;
+        const Vec& normal = planes.normal[p];
+        const Vec& c = planes.centroid[p];
+        // Two axes in the plane, to tell a plate's neighbours (spread both ways) from a rail's (a
+        // line of cells whose planes do not follow it).
+        const Vec u = std::abs(normal[0]) < 0.9 ? Vec{0, -normal[2], normal[1]} : Vec{-normal[2], 0, normal[0]};
+        const double u_length = std::sqrt(dot(u, u));
+        const Vec e1{u[0] / u_length, u[1] / u_length, u[2] / u_length};
+        const Vec e2{normal[1] * e1[2] - normal[2] * e1[1], normal[2] * e1[0] - normal[0] * e1[2],
+                     normal[0] * e1[1] - normal[1] * e1[0]};
+        std::array<double, 27> near;
+        std::size_t count = 0;
+        double s11 = 0, s22 = 0, s12 = 0;
+        planes.for_each_within(static_cast<std::uint32_t>(p), 1, [&](std::uint32_t q) {
+            if (points[q] < min_points || std::abs(dot(normal, planes.normal[q])) < 0.9) return;
+            near[count++] = spread[q];
+            const Vec& m = planes.centroid[q];
+            const Vec d{m[0] - c[0], m[1] - c[1], m[2] - c[2]};
+            const double a = dot(d, e1), b = dot(d, e2);
+            s11 += a * a, s22 += b * b, s12 += a * b;
+        });
+        if (count < 5) return;
+        // The in-plane spread's smaller eigenvalue (2 x 2: closed form).
+        const double mean = 0.5 * (s11 + s22), gap = std::sqrt(0.25 * (s11 - s22) * (s11 - s22) + s12 * s12);
+        if (mean - gap < plate_min_width * h * h * static_cast<double>(count)) return;
+        std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(count / 2),
+                         near.begin() + static_cast<std::ptrdiff_t>(count));
+        const double median = near[count / 2];
+        if (median < two_faces_spread * noise) return;
+        const double d = std::sqrt(median - noise);
+        if (d >= 0.1 * h && d <= 0.5 * h) half[p] = static_cast<float>(d);
+    });
+    if (std::none_of(half.begin(), half.end(), [](float d) { return d > 0; })) return;
+    // A plate's planes go to the middle of its points (their layer's mean): the band of points
+    // across both faces spans cells whose own centroids lie each nearer one face.
+    for (std::size_t p = 0; p < n; ++p)
+        if (half[p] > 0)
+            for (int a = 0; a < 3; ++a) planes.centroid[p][a] += middle[p] * planes.normal[p][a];
+    planes.half_thickness = std::move(half);
 }
 
 // Whether q lies along p's plane rather than across it: the step between their centroids makes
@@ -657,8 +804,43 @@ struct SheetField {
             for (int c = 0; c < 3; ++c)
                 out.color[c] = static_cast<std::uint8_t>(std::lround((1 - t) * ca[c] + t * cb[c]));
         }
+        if (!planes.half_thickness.empty())
+            out.offset =
+                static_cast<float>((1 - t) * planes.half_thickness[a.source] + t * planes.half_thickness[b.source]);
     }
 };
+
+// Step 6: where a plate has two faces (estimate_thickness), its sheet becomes two: every triangle
+// with a corner on a plate is copied, the copy turned over and each moved half the plate's
+// thickness along its normals, out to the side it faces. The vertices of such triangles where the
+// plate ends (half thickness 0) stay where they are: the front face shares them with the sheet it
+// continues, the back face has its own, so the back face is an open sheet of its own and no edge
+// gets three triangles.
+void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
+    const std::size_t nv = mesh.positions.size(), nt = mesh.triangles.size();
+    std::vector<std::uint32_t> back(nv, UINT32_MAX);
+    const bool colored = !mesh.colors.empty();
+    for (std::size_t t = 0; t < nt; ++t) {
+        auto tri = mesh.triangles[t];
+        if (!(half[tri[0]] > 0 || half[tri[1]] > 0 || half[tri[2]] > 0)) continue;
+        for (auto& v : tri) {
+            if (back[v] == UINT32_MAX) {
+                back[v] = static_cast<std::uint32_t>(mesh.positions.size());
+                const auto& n = mesh.normals[v];
+                const auto p = mesh.positions[v];
+                mesh.positions.push_back({p[0] - half[v] * n[0], p[1] - half[v] * n[1], p[2] - half[v] * n[2]});
+                mesh.normals.push_back({-n[0], -n[1], -n[2]});
+                if (colored) mesh.colors.push_back(mesh.colors[v]);
+            }
+            v = back[v];
+        }
+        mesh.triangles.push_back({tri[0], tri[2], tri[1]});
+    }
+    for (std::size_t v = 0; v < nv; ++v) {
+        const auto& n = mesh.normals[v];
+        for (int c = 0; c < 3; ++c) mesh.positions[v][c] += half[v] * n[c];
+    }
+}
 
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
@@ -668,6 +850,12 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
     if (owned) std::vector<CellSums>().swap(owned->cells);
     estimate_normals(planes);
     if (linear == LinearParts::tubes) estimate_tubes(planes);
+    if (!planes.scatter.empty()) {
+        std::vector<double> spread, points, middle;
+        layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
+        estimate_thickness(planes, grid.spec.cell_size, spread, points, middle);
+        std::vector<std::array<float, 6>>().swap(planes.scatter);
+    }
     pool_split_layers(planes, grid.spec.cell_size);
     const Outside outside(planes);
     orient_normals(planes, outside);
@@ -692,10 +880,12 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
         for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first})
             std::vector<std::uint64_t>().swap(*v);
     };
+    std::vector<float> half;
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1),
-                                     grid.has_color(), sampled);
+                                     grid.has_color(), sampled, planes.half_thickness.empty() ? nullptr : &half);
     agree_normals_with_faces(mesh);
     face_outside(mesh, outside, grid.spec.cell_size);
+    if (!half.empty()) split_two_faces(mesh, half);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
     return mesh;

@@ -34,7 +34,10 @@ namespace lasmesh {
 // such parts are a few cells across (the thin parts' grid of half the cell); at coarser cells a
 // rail is a line of single cells, and its tube would be the lattice's smallest, not its own.
 // A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its points
-// instead of two sheets around it. The sheets are open where the surface ends; their triangles face
+// instead of two sheets around it; where the grid holds its cells' moments and a layer's points
+// spread along its normal well past the scan's noise (a plate thinner than a cell, scanned on
+// both faces), that sheet is split into the plate's two faces, each half the estimated
+// thickness from the middle. The sheets are open where the surface ends; their triangles face
 // along the oriented normals; vertex normals are the planes' normals (a tube's: away from its axis)
 // and vertex colours the cells' mean colours, both interpolated along the edge. Each connected part
 // of the result is turned, if need be, to face the outside.
