@@ -12,7 +12,7 @@ namespace lasmesh {
 
 // What extraction makes of the grid.
 enum class SurfaceKind {
-    sheet,  // one open sheet through the points of each surface: the default
+    sheet,  // one open sheet through the points of each surface (two for a plate scanned on both faces): the default
     closed, // a watertight surface around the occupied cells, for solids
 };
 
