@@ -231,12 +231,13 @@ void pool_split_layers(Planes& planes, double h) {
 }
 
 // The spread of the points along each plane's normal, with the layer's points (no tube: 0
-// points) and their mean's offset from the plane along it: the cells met along its normal line within 2.5 cells either
-// way (sampled every half cell), parallel to it, no tube, their centroids within half a cell of the line; their points'
-// variance along the normal about their common mean (each cell's own scatter, CellGrid::scatter,
-// and the cells' offsets together). Measured before the layers are pooled (the centroids are the
-// cells' own). A band of noisy points 10 cm wide spans three 6 cm cells: the 3 x 3 x 3 around an
-// edge cell of it miss the far one, and its spread came out a third short.
+// points) and their mean's offset from the plane along it: the cells met along its normal line
+// within 2.5 cells either way (sampled every half cell), parallel to it, no tube, their centroids
+// within half a cell of the line; their points' variance along the normal about their common mean
+// (each cell's own scatter, CellGrid::scatter, and the cells' offsets together). Measured before
+// the layers are pooled (the centroids are the cells' own). A band of noisy points 10 cm wide
+// spans three 6 cm cells: the 3 x 3 x 3 around an edge cell of it miss the far one, and its spread
+// came out a third short.
 void layer_spreads(const Planes& planes, double h, std::vector<double>& spread, std::vector<double>& points,
                    std::vector<double>& middle) {
     const std::size_t count = planes.cell.size();
@@ -291,13 +292,14 @@ void layer_spreads(const Planes& planes, double h, std::vector<double>& spread, 
 // variance s^2, spread s^2 + d^2 / 4 about their middle (equal shares of points). The noise s^2
 // is the median spread of the layers (most of a scan is surfaces seen from one side); a plane
 // whose neighbours' layers (3 x 3 x 3, parallel, no tubes: their median, so that an edge or a
-// corner among them does not count) spread at least twice that holds two faces, d / 2 =
-// sqrt(spread - s^2) either side of it (and its neighbours must spread across its plane both ways,
-// over half a cell: a rail's cells lie along a line): at most half a cell (thicker, the faces are cells apart and
-// the sheet already has both), at least a tenth (closer, the outputs' quantization, a tenth of a
-// cell, would not keep them apart; and a scan without noise has no spread to compare with). The spread is a second
-// moment: the faces' shares and whether the points are two faces or one noisier surface are not told apart, only that
-// the spread is more than the scan's noise elsewhere explains.
+// corner among them does not count) spread at least twice that, and whose neighbours spread
+// across its plane both ways over half a cell (a rail's cells lie along a line), holds two faces
+// d / 2 = sqrt(spread - s^2) either side of it: at most half a cell (thicker, the faces are cells
+// apart and the sheet already has both), at least a tenth (closer, the outputs' quantization, a
+// tenth of a cell, would not keep them apart; and a scan without noise has no spread to compare
+// with). The spread is a second moment: the faces' shares, and whether the points are two faces
+// or one noisier surface, are not told apart; only that the spread is more than the scan's noise
+// elsewhere explains.
 constexpr double two_faces_spread = 2;
 // A plate's neighbours spread across its plane in both directions, a rail's along one: the
 // neighbours' mean squared offset along the plane's narrower direction (the smaller eigenvalue of
@@ -826,7 +828,7 @@ void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
         for (auto& v : tri) {
             if (back[v] == UINT32_MAX) {
                 back[v] = static_cast<std::uint32_t>(mesh.positions.size());
-                const auto& n = mesh.normals[v];
+                const auto n = mesh.normals[v]; // copies: the vectors grow below
                 const auto p = mesh.positions[v];
                 mesh.positions.push_back({p[0] - half[v] * n[0], p[1] - half[v] * n[1], p[2] - half[v] * n[2]});
                 mesh.normals.push_back({-n[0], -n[1], -n[2]});
