@@ -27,25 +27,35 @@
 // device's largest allocation: chunk c holds 2^FIRST_BITS << min(c, DOUBLINGS) bricks (they
 // double, then stay at the largest allocation), in the order of the bricks' slots.
 //
-// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, and
-// RGB_OFFSET=n when the point format has colour (byte offset of red).
+// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, MOMENT_LANES,
+// and RGB_OFFSET=n when the point format has colour (byte offset of red).
 //
-// Cell record, 32-bit words (the low bits of each sum): count, sum x, sum y, sum z (raw LAS units
-// from the cell's start), then with colour the sums of red, green, blue and one unused word, then
-// the second moments of the offsets from the cell's start: sums of xx, yy, zz, xy, xz, yz (the
-// points' spread inside the cell, which tells a plate scanned on both faces from one face; the
-// host bounds the cells so that each fits 64 bits).
+// Cell record, 32-bit words: the sums of the position inside the cell (raw LAS units from the
+// cell's start) in three 21-bit lanes of one 64-bit word (add_lanes), the count, then with colour
+// the sums of blue, red and green, then the second moments of the offsets from the cell's start,
+// xx, yy, zz, xy, xz, yz (the points' spread inside the cell, which tells a plate scanned on both
+// faces from one face; the host bounds the cells so that each sum fits 64 bits), MOMENT_LANES to
+// a 64-bit word: three of 21 bits when a point's moment (at most the square of the widest cell
+// in raw units) leaves a lane a hundred points or more before it wraps, else two of 32. Each
+// word keeps the low bits of its sums. Lanes, because on a CPU each atomic costs about as much
+// as a cache miss, and records in an order that rarely puts two in a row in one cell make a
+// flush a point: five atomics a point instead of seven (docs/design.md, "Cell record"). A carry
+// names its sum, not its word: the cell's place in the pool times CELL_SUMS, plus the sum (x, y,
+// z, count, then blue, red, green, then the moments from MOMENT_SUM on).
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
 #define B (1 << BRICK_BITS)
 #define PENDING 0xFFFFFFFFu
 #ifdef RGB_OFFSET
-#define MOMENT_WORD 8
+#define MOMENT_WORD 6
+#define MOMENT_SUM 7
 #else
 #define MOMENT_WORD 4
+#define MOMENT_SUM 4
 #endif
 #define CELL_WORDS (MOMENT_WORD + 6)
+#define CELL_SUMS (MOMENT_SUM + 6)
 
 // Fetching a cell's line ahead of its atomic add. OpenCL's prefetch() does nothing on PoCL's CPU
 // device, so there the host asks for the compiler's (clang's) own prefetch for writing.
@@ -64,8 +74,8 @@ void add_pair(volatile global uint* sum, ulong value) {
     if (high) atomic_add(sum + 1, high);
 }
 
-// What the 32-bit words did not keep of the cells' sums: the 64-bit sum of word `key` of the pool
-// (slot * B^3 * CELL_WORDS + cell * CELL_WORDS + word) gets `delta` added (modulo 2^64). The
+// What the pool's words did not keep of the cells' sums: the 64-bit sum `key` (slot * B^3 *
+// CELL_SUMS + cell * CELL_SUMS + sum) gets `delta` added (modulo 2^64). The
 // host sized the list so it cannot fill up between two of its reads, and checks that it did not.
 typedef struct {
     global ulong* list; // pairs: key, delta
@@ -78,7 +88,7 @@ void list_carry(Carries carries, ulong key, ulong delta) {
     if (at < carries.capacity) carries.list[2 * at] = key, carries.list[2 * at + 1] = delta;
 }
 
-// Adds `value` to the 32-bit word `word` (the pool's word `key`), listing what goes past 32 bits.
+// Adds `value` to the 32-bit word `word` (sum `key`), listing what goes past 32 bits.
 void add_word(volatile global uint* word, ulong key, ulong value, Carries carries) {
     const uint low = (uint)value;
     const uint old = atomic_add(word, low);
@@ -86,7 +96,7 @@ void add_word(volatile global uint* word, ulong key, ulong value, Carries carrie
     if (high) list_carry(carries, key, high << 32);
 }
 
-// Adds `low` and `high` to the 32-bit words words[0] and words[1] (the pool's words key and
+// Adds `low` and `high` to the 32-bit words words[0] and words[1] (sums key and
 // key + 1, 8-byte aligned) with one 64-bit atomic: on a CPU device, when the cell's line is in
 // the cache (a coarse grid), each of a flush's atomics costs about as much as the first, and two
 // words an atomic took 11% off a run at grid 256 (docs/design.md). What the words do not keep is listed:
@@ -101,6 +111,26 @@ void add_two_words(volatile global uint* words, ulong key, ulong low, ulong high
     const ulong high_delta = (((high >> 32) + high_wrap) << 32) - spill;
     if (low_carry) list_carry(carries, key, low_carry << 32);
     if (high_delta) list_carry(carries, key + 1, high_delta);
+}
+
+// Adds a[0..lanes-1] to the `lanes` lanes of `bits` bits each of the 64-bit word at `words`
+// (sums key, key + 1, ...) with one atomic, listing what the lanes do not keep: a value's bits
+// past `bits`, and a lane's wrap, which the 64-bit add spills into the lane above (that lane
+// then lists the one it got too many). The top lane spills into the bits above it, which no sum
+// reads, or past the word.
+void add_lanes(volatile global uint* words, ulong key, const ulong* a, int lanes, int bits, Carries carries) {
+    const ulong mask = (1ul << bits) - 1;
+    ulong packed = 0;
+    for (int i = 0; i < lanes; ++i) packed |= (a[i] & mask) << (i * bits);
+    const ulong old = atom_add((volatile global ulong*)words, packed);
+    ulong spill_in = 0;
+    for (int i = 0; i < lanes; ++i) {
+        const ulong lane = ((old >> (i * bits)) & mask) + (a[i] & mask) + spill_in;
+        const ulong spill_out = lane >> bits;
+        const ulong delta = (((a[i] >> bits) + spill_out) << bits) - spill_in;
+        if (delta) list_carry(carries, key + i, delta);
+        spill_in = spill_out;
+    }
 }
 
 uint load_u16(global const uchar* p) { return (uint)p[0] | ((uint)p[1] << 8); }
@@ -191,26 +221,31 @@ global uint* brick_words(uint slot, POOL_ARGS) {
 
 // A run's sums for one cell: count, x, y, z, red, green, blue, then xx, yy, zz, xy, xz, yz.
 typedef struct {
-    ulong n, x, y, z, r, g, b, m[6];
+    ulong n, p[3], r, g, b, m[6];
 } RunSums;
 
-// Adds a run's sums to its cell's record, the pool's words key.. (count, x, y, z, then red,
-// green, blue, then the moments).
+// Adds a run's sums to its cell's record, sums key.. (see the record above).
 void flush(volatile global uint* record, ulong key, const RunSums* s, Carries carries) {
     if (s->n == 0) return;
-    add_two_words(record, key, s->n, s->x, carries);
-    if (s->y | s->z) add_two_words(record + 2, key + 2, s->y, s->z, carries);
+    if (s->p[0] | s->p[1] | s->p[2]) add_lanes(record, key, s->p, 3, 21, carries);
 #ifdef RGB_OFFSET
-    if (s->r | s->g) add_two_words(record + 4, key + 4, s->r, s->g, carries);
-    if (s->b) add_word(record + 6, key + 6, s->b, carries); // alone: a spill into the unused word would be listed
+    add_two_words(record + 2, key + 3, s->n, s->b, carries);
+    if (s->r | s->g) add_two_words(record + 4, key + 5, s->r, s->g, carries);
+#else
+    add_word(record + 2, key + 3, s->n, carries);
 #endif
-    for (int k = 0; k < 6; k += 2)
-        if (s->m[k] | s->m[k + 1])
-            add_two_words(record + MOMENT_WORD + k, key + MOMENT_WORD + k, s->m[k], s->m[k + 1], carries);
+    for (int k = 0; k < 6; k += MOMENT_LANES) {
+        ulong any = 0;
+        for (int i = 0; i < MOMENT_LANES; ++i) any |= s->m[k + i];
+        if (any)
+            add_lanes(record + MOMENT_WORD + 2 * k / MOMENT_LANES, key + MOMENT_SUM + k, s->m + k, MOMENT_LANES,
+                      64 / MOMENT_LANES, carries);
+    }
 }
 
 void clear_sums(RunSums* s) {
-    s->n = s->x = s->y = s->z = s->r = s->g = s->b = 0;
+    s->n = s->r = s->g = s->b = 0;
+    for (int k = 0; k < 3; ++k) s->p[k] = 0;
     for (int k = 0; k < 6; ++k) s->m[k] = 0;
 }
 
@@ -249,7 +284,7 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
         global uint* cell = brick_words(slot - 1, POOL) + in_brick * CELL_WORDS;
         PREFETCH_FOR_WRITE(cell);
         cells[k] = cell;
-        keys[k] = ((ulong)(slot - 1) * (B * B * B) + in_brick) * CELL_WORDS;
+        keys[k] = ((ulong)(slot - 1) * (B * B * B) + in_brick) * CELL_SUMS;
         offsets[k][0] = (uint)(rx - starts_x[x]);
         offsets[k][1] = (uint)(ry - starts_y[y]);
         offsets[k][2] = (uint)(rz - starts_z[z]);
@@ -268,9 +303,9 @@ void accumulate_run(global const uchar* records, global const uint* listed, uint
         }
         const ulong ox = offsets[k][0], oy = offsets[k][1], oz = offsets[k][2];
         s.n += 1;
-        s.x += ox;
-        s.y += oy;
-        s.z += oz;
+        s.p[0] += ox;
+        s.p[1] += oy;
+        s.p[2] += oz;
         s.m[0] += ox * ox;
         s.m[1] += oy * oy;
         s.m[2] += oz * oz;

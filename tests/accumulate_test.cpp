@@ -263,8 +263,10 @@ TEST_CASE("8-bit colour in 16-bit fields and true 16-bit colour give the same me
 
 TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell") {
     test::TempDir dir;
-    // 70,000 x 65535 = 4,587,450,000 > 2^32: the colour sums must carry into the high word.
-    std::vector<lasgen::GeneratedPoint> points(70000, at(0.5, 0.5, 0.5, {255, 255, 255}));
+    // 70,000 x 65535 = 4,587,450,000 > 2^32: the colour sums must carry into the high word. The
+    // position sums and moments (21-bit lanes) wrap too, though no run of 32 points adds 2^21 to
+    // one: each lane's spill into the one above must be taken back from it.
+    std::vector<lasgen::GeneratedPoint> points(70000, at(0.4, 0.6, 0.8, {255, 255, 255}));
     test::write_file(dir.file("white.las"), las_with_points(points, {0, 0, 0}, {1, 1, 1}, 16));
     const CellGrid sparse = accumulate_file(dir.file("white.las"), grid_of("1"));
     const test::DenseGrid g = test::dense(sparse); // refers to `sparse` for mean colours
@@ -272,6 +274,25 @@ TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell
     CHECK(g.count[0] == 70000);
     CHECK(g.red[0] == 70000ull * 65535);
     CHECK(g.mean_color(0) == Rgb8{255, 255, 255});
+    std::array<std::uint64_t, 3> offset{}; // raw units from the cell's start, from the record
+    {
+        LasReader reader(dir.file("white.las"));
+        Bytes record(reader.header().point_record_length);
+        REQUIRE(reader.read_records({record.data(), record.size()}) == 1);
+        for (int a = 0; a < 3; ++a) {
+            std::int32_t raw;
+            std::memcpy(&raw, record.data() + 4 * a, 4);
+            offset[a] = static_cast<std::uint64_t>(raw - sparse.axes[a].starts[0]);
+        }
+    }
+    const CellSums* cell = sparse.find(0, 0, 0);
+    REQUIRE(cell != nullptr);
+    REQUIRE(70000 * offset[0] > (std::uint64_t{1} << 21));
+    REQUIRE(32 * offset[2] * offset[2] < (std::uint64_t{1} << 21));
+    for (int a = 0; a < 3; ++a) CHECK(cell->position[a] == 70000 * offset[a]);
+    for (int c = 0; c < 3; ++c) CHECK(cell->color[c] == 70000ull * 65535); // red's wrap spills into green's word
+    for (std::size_t k = 0; k < 6; ++k)
+        CHECK(cell->moments[k] == 70000 * offset[moment_axes[k][0]] * offset[moment_axes[k][1]]);
 }
 
 TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole and in small slices") {

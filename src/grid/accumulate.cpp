@@ -34,36 +34,44 @@ constexpr std::size_t slots = slice_buffers;
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
 
-// The pool keeps the low 32 bits of each sum; an add that carries past them lists what they did
-// not keep (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per
-// word a run flushes, and at most two kernels' worth of runs (`points_between_reads` points).
-// Over the whole run: word w lists once per add of 2^32 or more and once per wrap of its 32 bits
-// (each at most its total over 2^32), and the second word of a pair once more per wrap of the
-// first (whose 64-bit add spills into it): at most 3 T / 2^32 entries, T the totals of all words,
-// at most `points` times the largest a point adds to them. The list needs the smaller of the two.
-std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads,
-                             const std::array<AxisCells, 3>& axes, bool color) {
-    unsigned __int128 per_point = 1; // the count
-    for (const AxisCells& axis : axes) {
-        std::int64_t widest = 0; // the widest cell in raw units bounds a point's offset from its start
+// The widest cell of the grid, in raw units: it bounds what a point adds to a position sum (and
+// its square what it adds to a moment).
+std::uint64_t widest_cell(const std::array<AxisCells, 3>& axes) {
+    std::int64_t widest = 0;
+    for (const AxisCells& axis : axes)
         for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i)
             widest = std::max(widest, axis.starts[i + 1] - axis.starts[i]);
-        per_point += static_cast<std::uint64_t>(widest);
-    }
-    if (color) per_point += 3 * 65535;
-    unsigned __int128 widest_squared = 0; // the moments: six products of two offsets
-    for (const AxisCells& axis : axes)
-        for (std::size_t i = 0; i + 1 < axis.starts.size(); ++i) {
-            const auto w = static_cast<unsigned __int128>(axis.starts[i + 1] - axis.starts[i]);
-            widest_squared = std::max(widest_squared, w * w);
-        }
-    per_point += 6 * widest_squared;
-    const unsigned __int128 over_run = (3 * per_point * points >> 32) + 1;
-    const std::uint64_t between_reads = points_between_reads * cell_words(color);
+    return static_cast<std::uint64_t>(widest);
+}
+
+// The moments' lanes a 64-bit word of the pool (kernels/accumulate.cl): three of 21 bits while
+// a lane takes at least 128 points of the widest cell's largest moment before it wraps (cells up
+// to 12.8 cm at a millimetre scale), else two of 32 bits; wrapping lanes list carries.
+unsigned moment_lanes(const std::array<AxisCells, 3>& axes) {
+    const std::uint64_t w = widest_cell(axes);
+    return w <= 128 ? 3 : 2;
+}
+
+// The pool keeps the low 32 bits of the count and colour sums, 21 of the position sums, and 21
+// or 32 of the moments; an add that carries past them lists what they did not keep
+// (kernels/accumulate.cl). Listed between two reads by the host: at most one entry per sum a run
+// flushes, and at most two kernels' worth of runs (`points_between_reads` points). Over the whole
+// run: a sum of b bits lists once per add of 2^b or more and once per wrap (each at most its total
+// over 2^b), and the sum above it in its 64-bit word once more per wrap (the add spills into it):
+// at most 3 T / 2^b entries, T the totals of the sums, at most `points` times the largest a point
+// adds to them. The list needs the smaller of the two.
+std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads,
+                             const std::array<AxisCells, 3>& axes, bool color) {
+    const auto w = static_cast<unsigned __int128>(widest_cell(axes));
+    const unsigned __int128 per_word = 1 + (color ? 3 * 65535 : 0), per_lane = 3 * w, per_moment = 6 * w * w;
+    const unsigned moment_bits = 64 / moment_lanes(axes);
+    const unsigned __int128 over_run =
+        (3 * per_word * points >> 32) + (3 * per_lane * points >> 21) + (3 * per_moment * points >> moment_bits) + 3;
+    const std::uint64_t between_reads = points_between_reads * cell_sums(color);
     return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
 }
 
-// One listed carry: the 64-bit sum of pool word `key` gets `delta` added (modulo 2^64).
+// One listed carry: the 64-bit sum `key` (cell_sums) gets `delta` added (modulo 2^64).
 struct Carry {
     std::uint64_t key = 0, delta = 0;
     bool operator<(const Carry& o) const { return key < o.key; }
@@ -138,6 +146,7 @@ class DeviceAccumulation {
         if (host_device_ && dev_.info.platform.find("Portable Computing Language") != std::string::npos)
             defines += " -D CPU_PREFETCH";
         if (color_) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header_.point_format));
+        defines += " -D MOMENT_LANES=" + std::to_string(moment_lanes(out_.axes));
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev_.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
             throw Error(ErrorKind::device,
@@ -418,7 +427,8 @@ class DeviceAccumulation {
         // Room for every cell of every brick, in address space only: pages are taken as written.
         out_.cells.reserve(used_ * CellGrid::brick_cells);
         advise_large_pages(out_.cells.data(), out_.cells.capacity() * sizeof(CellSums));
-        const std::uint64_t words = cell_words(color_), moments = moment_word(color_);
+        const std::uint64_t words = cell_words(color_), sums = cell_sums(color_), moments = moment_word(color_);
+        const unsigned lanes = moment_lanes(out_.axes);
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes_);
         auto carry = carries_.begin();
         std::array<CellSums, CellGrid::brick_cells> brick{};
@@ -435,22 +445,26 @@ class DeviceAccumulation {
                     const std::uint64_t slot = start + first + i;
                     const cl_uint* src = block + i * CellGrid::brick_cells * words;
                     for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
-                        brick[k].count = src[0];
-                        brick[k].position = {src[1], src[2], src[3]};
-                        if (color_) brick[k].color = {src[4], src[5], src[6]};
-                        for (std::size_t m = 0; m < 6; ++m) brick[k].moments[m] = src[moments + m];
+                        // Lane i of `bits` bits of the 64-bit word at 32-bit word `word`.
+                        const auto lane = [&](std::uint64_t word, unsigned i, unsigned bits) {
+                            const std::uint64_t lanes = src[word] | std::uint64_t{src[word + 1]} << 32;
+                            return lanes >> (bits * i) & ((std::uint64_t{1} << bits) - 1);
+                        };
+                        brick[k].position = {lane(0, 0, 21), lane(0, 1, 21), lane(0, 2, 21)};
+                        brick[k].count = src[2];
+                        if (color_) brick[k].color = {src[4], src[5], src[3]};
+                        for (unsigned m = 0; m < 6; ++m)
+                            brick[k].moments[m] = lane(moments + 2 * (m / lanes), m % lanes, 64 / lanes);
                     }
-                    const std::uint64_t first_key = slot * CellGrid::brick_cells * words;
-                    for (; carry != carries_.end() && carry->key < first_key + CellGrid::brick_cells * words; ++carry) {
-                        CellSums& cell = brick[(carry->key - first_key) / words];
-                        const std::uint64_t word = (carry->key - first_key) % words;
-                        if (color_ && word == 7) // the unused eighth word is never added to
-                            throw Error(ErrorKind::device,
-                                        "a carry for an unused word of the pool: the kernel is wrong");
-                        std::uint64_t& sum = word == 0         ? cell.count
-                                             : word < 4        ? cell.position[word - 1]
-                                             : word >= moments ? cell.moments[word - moments]
-                                                               : cell.color[word - 4];
+                    const std::uint64_t first_key = slot * CellGrid::brick_cells * sums;
+                    for (; carry != carries_.end() && carry->key < first_key + CellGrid::brick_cells * sums; ++carry) {
+                        CellSums& cell = brick[(carry->key - first_key) / sums];
+                        const std::uint64_t which = (carry->key - first_key) % sums;
+                        std::uint64_t& sum = which < 3           ? cell.position[which]
+                                             : which == 3        ? cell.count
+                                             : which >= sums - 6 ? cell.moments[which - (sums - 6)]
+                                             : which == 4        ? cell.color[2]
+                                                                 : cell.color[which - 5];
                         sum += carry->delta;
                     }
                     const std::uint64_t b = position_of_slot[slot];

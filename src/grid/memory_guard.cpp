@@ -50,7 +50,11 @@ std::uint64_t cell_words(bool color) {
 }
 
 std::uint64_t moment_word(bool color) {
-    return color ? 8 : 4;
+    return color ? 6 : 4;
+}
+
+std::uint64_t cell_sums(bool color) {
+    return color ? 13 : 10;
 }
 
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid) {

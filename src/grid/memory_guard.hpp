@@ -19,10 +19,15 @@ constexpr std::size_t slice_buffers = 2;
 
 std::string mib(std::uint64_t bytes);
 std::string dims_text(const GridSpec& grid);
-// 32-bit words a cell takes on the device.
+// 32-bit words a cell takes on the device (kernels/accumulate.cl): the position sums in three
+// 21-bit lanes of a 64-bit word, the count, with colour blue, red and green, then the moments.
 std::uint64_t cell_words(bool color);
-// The first of a cell's six moment words (kernels/accumulate.cl).
+// The first of a cell's six moment words: three 64-bit words of two 32-bit lanes, or two of three
+// 21-bit lanes (and two words unused) for cells narrow enough.
 std::uint64_t moment_word(bool color);
+// A cell's sums: a listed carry names its sum as the cell's place in the pool times this, plus
+// the sum (x, y, z, count, then blue, red, green with colour, then the six moments).
+std::uint64_t cell_sums(bool color);
 std::array<std::uint32_t, 3> brick_dims(const GridSpec& grid);
 std::uint64_t brick_count(const GridSpec& grid);
 // The pool's first chunk, counted before reading (bricks with colour, the larger kind).
