@@ -447,8 +447,8 @@ class DeviceAccumulation {
                     for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
                         // Lane i of `bits` bits of the 64-bit word at 32-bit word `word`.
                         const auto lane = [&](std::uint64_t word, unsigned i, unsigned bits) {
-                            const std::uint64_t lanes = src[word] | std::uint64_t{src[word + 1]} << 32;
-                            return lanes >> (bits * i) & ((std::uint64_t{1} << bits) - 1);
+                            const std::uint64_t both = src[word] | std::uint64_t{src[word + 1]} << 32;
+                            return both >> (bits * i) & ((std::uint64_t{1} << bits) - 1);
                         };
                         brick[k].position = {lane(0, 0, 21), lane(0, 1, 21), lane(0, 2, 21)};
                         brick[k].count = src[2];
