@@ -27,8 +27,8 @@
 // device's largest allocation: chunk c holds 2^FIRST_BITS << min(c, DOUBLINGS) bricks (they
 // double, then stay at the largest allocation), in the order of the bricks' slots.
 //
-// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, MOMENT_LANES,
-// and RGB_OFFSET=n when the point format has colour (byte offset of red).
+// Compile-time options: BRICK_BITS (B = 2^BRICK_BITS), RUN, FIRST_BITS, DOUBLINGS, POSITION_BITS (21),
+// MOMENT_LANES, and RGB_OFFSET=n when the point format has colour (byte offset of red).
 //
 // Cell record, 32-bit words: the sums of the position inside the cell (raw LAS units from the
 // cell's start) in three 21-bit lanes of one 64-bit word (add_lanes), the count, then with colour
@@ -227,7 +227,7 @@ typedef struct {
 // Adds a run's sums to its cell's record, sums key.. (see the record above).
 void flush(volatile global uint* record, ulong key, const RunSums* s, Carries carries) {
     if (s->n == 0) return;
-    if (s->p[0] | s->p[1] | s->p[2]) add_lanes(record, key, s->p, 3, 21, carries);
+    if (s->p[0] | s->p[1] | s->p[2]) add_lanes(record, key, s->p, 3, POSITION_BITS, carries);
 #ifdef RGB_OFFSET
     add_two_words(record + 2, key + 3, s->n, s->b, carries);
     if (s->r | s->g) add_two_words(record + 4, key + 5, s->r, s->g, carries);

@@ -33,6 +33,8 @@ constexpr std::size_t slots = slice_buffers;
 // Records one work-item sums before it flushes: long enough to merge the runs of a scan in
 // acquisition order, short enough to keep every core busy on a small slice.
 constexpr unsigned run_length = 32;
+// The bits of each of the three position lanes of a cell's first 64-bit word (kernels/accumulate.cl).
+constexpr unsigned position_bits = 21;
 
 // The widest cell of the grid, in raw units: it bounds what a point adds to a position sum (and
 // its square what it adds to a moment).
@@ -61,12 +63,11 @@ unsigned moment_lanes(const std::array<AxisCells, 3>& axes) {
 // at most 3 T / 2^b entries, T the totals of the sums, at most `points` times the largest a point
 // adds to them. The list needs the smaller of the two.
 std::uint64_t carry_capacity(std::uint64_t points, std::uint64_t points_between_reads,
-                             const std::array<AxisCells, 3>& axes, bool color) {
+                             const std::array<AxisCells, 3>& axes, unsigned moment_lanes, bool color) {
     const auto w = static_cast<unsigned __int128>(widest_cell(axes));
     const unsigned __int128 per_word = 1 + (color ? 3 * 65535 : 0), per_lane = 3 * w, per_moment = 6 * w * w;
-    const unsigned moment_bits = 64 / moment_lanes(axes);
-    const unsigned __int128 over_run =
-        (3 * per_word * points >> 32) + (3 * per_lane * points >> 21) + (3 * per_moment * points >> moment_bits) + 3;
+    const unsigned __int128 over_run = (3 * per_word * points >> 32) + (3 * per_lane * points >> position_bits) +
+                                       (3 * per_moment * points >> (64 / moment_lanes)) + 3;
     const std::uint64_t between_reads = points_between_reads * cell_sums(color);
     return 1 + static_cast<std::uint64_t>(std::min<unsigned __int128>(over_run, between_reads));
 }
@@ -120,7 +121,8 @@ class DeviceAccumulation {
         check_index_memory(header_, options_, out_.spec, slice_bytes_, limits_);
         for (int a = 0; a < 3; ++a) out_.axes[a] = axis_cells(out_.spec, a, header_.scale[a], header_.offset[a]);
         brick_bytes_ = brick_device_bytes(color_);
-        carry_slots_ = carry_capacity(reader_.records_left(), 2 * slice_records_, out_.axes, color_);
+        moment_lanes_ = moment_lanes(out_.axes);
+        carry_slots_ = carry_capacity(reader_.records_left(), 2 * slice_records_, out_.axes, moment_lanes_, color_);
         fixed_ = memory_need(out_.spec, slice_bytes_);
         fixed_.device_bytes += carry_slots_ * 2 * sizeof(std::uint64_t);
         layout_ = pool_layout(std::max<std::uint64_t>(1, max_alloc_ / brick_bytes_));
@@ -146,7 +148,8 @@ class DeviceAccumulation {
         if (host_device_ && dev_.info.platform.find("Portable Computing Language") != std::string::npos)
             defines += " -D CPU_PREFETCH";
         if (color_) defines += " -D RGB_OFFSET=" + std::to_string(rgb_offset(header_.point_format));
-        defines += " -D MOMENT_LANES=" + std::to_string(moment_lanes(out_.axes));
+        defines +=
+            " -D POSITION_BITS=" + std::to_string(position_bits) + " -D MOMENT_LANES=" + std::to_string(moment_lanes_);
         // The cells' words are added two at a time with 64-bit atomics (kernels/accumulate.cl).
         if (dev_.device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_int64_base_atomics") == std::string::npos)
             throw Error(ErrorKind::device,
@@ -428,7 +431,12 @@ class DeviceAccumulation {
         out_.cells.reserve(used_ * CellGrid::brick_cells);
         advise_large_pages(out_.cells.data(), out_.cells.capacity() * sizeof(CellSums));
         const std::uint64_t words = cell_words(color_), sums = cell_sums(color_), moments = moment_word(color_);
-        const unsigned lanes = moment_lanes(out_.axes);
+        const unsigned lanes = moment_lanes_;
+        // Lane i of `bits` bits of the 64-bit word at a cell's 32-bit word `word`.
+        const auto lane = [](const cl_uint* cell, std::uint64_t word, unsigned i, unsigned bits) {
+            const std::uint64_t both = cell[word] | std::uint64_t{cell[word + 1]} << 32;
+            return both >> (bits * i) & ((std::uint64_t{1} << bits) - 1);
+        };
         const std::uint64_t block_bricks = std::max<std::uint64_t>(1, (16ull << 20) / brick_bytes_);
         auto carry = carries_.begin();
         std::array<CellSums, CellGrid::brick_cells> brick{};
@@ -445,16 +453,11 @@ class DeviceAccumulation {
                     const std::uint64_t slot = start + first + i;
                     const cl_uint* src = block + i * CellGrid::brick_cells * words;
                     for (std::size_t k = 0; k < brick.size(); ++k, src += words) {
-                        // Lane i of `bits` bits of the 64-bit word at 32-bit word `word`.
-                        const auto lane = [&](std::uint64_t word, unsigned i, unsigned bits) {
-                            const std::uint64_t both = src[word] | std::uint64_t{src[word + 1]} << 32;
-                            return both >> (bits * i) & ((std::uint64_t{1} << bits) - 1);
-                        };
-                        brick[k].position = {lane(0, 0, 21), lane(0, 1, 21), lane(0, 2, 21)};
+                        for (unsigned a = 0; a < 3; ++a) brick[k].position[a] = lane(src, 0, a, position_bits);
                         brick[k].count = src[2];
                         if (color_) brick[k].color = {src[4], src[5], src[3]};
                         for (unsigned m = 0; m < 6; ++m)
-                            brick[k].moments[m] = lane(moments + 2 * (m / lanes), m % lanes, 64 / lanes);
+                            brick[k].moments[m] = lane(src, moments + 2 * (m / lanes), m % lanes, 64 / lanes);
                     }
                     const std::uint64_t first_key = slot * CellGrid::brick_cells * sums;
                     for (; carry != carries_.end() && carry->key < first_key + CellGrid::brick_cells * sums; ++carry) {
@@ -498,6 +501,7 @@ class DeviceAccumulation {
     MemoryNeed fixed_{};
     PoolLayout layout_{};
     bool host_device_ = false;
+    unsigned moment_lanes_ = 2; // the moments' lanes a 64-bit word (moment_lanes)
 
     cl::Kernel add_, mark_, assign_, add_listed_;
     cl::NDRange add_group_, add_listed_group_, mark_group_, assign_group_;
