@@ -54,7 +54,13 @@
 #define MOMENT_WORD 4
 #define MOMENT_SUM 4
 #endif
+// With colour a record takes a whole 64-byte cache line (its sums take 48 bytes): a record
+// across two lines costs two cache misses a point where the points rarely share a cell.
+#ifdef RGB_OFFSET
+#define CELL_WORDS 16
+#else
 #define CELL_WORDS (MOMENT_WORD + 6)
+#endif
 #define CELL_SUMS (MOMENT_SUM + 6)
 
 // Fetching a cell's line ahead of its atomic add. OpenCL's prefetch() does nothing on PoCL's CPU

@@ -46,7 +46,7 @@ std::string dims_text(const GridSpec& g) {
 }
 
 std::uint64_t cell_words(bool color) {
-    return moment_word(color) + 6;
+    return color ? 16 : moment_word(color) + 6;
 }
 
 std::uint64_t moment_word(bool color) {

@@ -20,7 +20,8 @@ constexpr std::size_t slice_buffers = 2;
 std::string mib(std::uint64_t bytes);
 std::string dims_text(const GridSpec& grid);
 // 32-bit words a cell takes on the device (kernels/accumulate.cl): the position sums in three
-// 21-bit lanes of a 64-bit word, the count, with colour blue, red and green, then the moments.
+// 21-bit lanes of a 64-bit word, the count, with colour blue, red and green, then the moments;
+// with colour padded to 16 (one 64-byte cache line, kernels/accumulate.cl).
 std::uint64_t cell_words(bool color);
 // The first of a cell's six moment words: three 64-bit words of two 32-bit lanes, or two of three
 // 21-bit lanes (and two words unused) for cells narrow enough.
