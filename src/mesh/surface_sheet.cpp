@@ -123,6 +123,13 @@ struct Planes {
     // Everything the extraction needs of the grid's cells, so they can go once this is made.
     Planes(const CellGrid& g, double iso) : grid(g), of_record(g.cells.size(), no_plane) {
         const bool moments = g.moments_exact();
+        // Counted first: grown by doubling, these would hold up to twice the memory they need at
+        // the extraction's peak, while the grid's cells are still here.
+        const auto surface = static_cast<std::size_t>(std::count_if(
+            g.cells.begin(), g.cells.end(), [&](const CellSums& c) { return static_cast<double>(c.count) > iso; }));
+        cell.reserve(surface), centroid.reserve(surface), count.reserve(surface);
+        if (g.has_color()) color.reserve(surface);
+        if (moments) scatter.reserve(surface);
         g.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
             if (!(static_cast<double>(g.cells[r].count) > iso)) return;
             of_record[r] = static_cast<std::uint32_t>(cell.size());
