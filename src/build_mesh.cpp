@@ -244,6 +244,9 @@ std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& input
     if (!finite_at_least_zero(o.min_piece.value) || (o.min_piece.relative && o.min_piece.value > 1))
         usage_error("min_piece", "the smallest piece must be a length, or a fraction of the mesh diagonal from 0 to 1");
     if (o.threads < 0) usage_error("threads", "the thread count must be 0 (all cores) or more");
+    if (!finite_at_least_zero(o.tile_size)) usage_error("tile", "the tile size must be a length, at least 0");
+    if (o.tile_size > 0 && std::find(formats.begin(), formats.end(), MeshFormat::tileset) == formats.end())
+        usage_error("tile", "a tile size is for a 3D Tiles tileset: give an output ending in .json");
     return formats;
 }
 
@@ -285,12 +288,14 @@ Bounds scanned_bounds(Survey& survey, bool skip_bad, std::vector<std::string>& l
     return all.value_or(Bounds{});
 }
 
-// A tileset's tiles span tile_cells cells of their level: the root, coarsest level is the grid
-// coarsened until one tile covers the survey in x and y; each finer level halves the cells and
-// the tiles (a quadtree on one lattice, whose corner is the grid's).
-constexpr std::uint32_t tile_cells = 64;
+// A tileset's tiles span the same number of cells of their level: the root, coarsest level is
+// the grid coarsened until one tile covers the survey in x and y; each finer level halves the
+// cells and the tiles (a quadtree on one lattice, whose corner is the grid's). 64 cells by
+// default: a tile's triangles then stay about as many at every level, and few.
+constexpr std::uint32_t default_tile_cells = 64;
 
-TilesetLattice tileset_lattice(const GridSpec& finest, std::size_t& levels) {
+TilesetLattice tileset_lattice(const GridSpec& finest, double tile_size, std::size_t& levels) {
+    const std::uint32_t tile_cells = tile_size > 0 ? tile_cells_for(tile_size, finest.cell_size) : default_tile_cells;
     const std::uint32_t longest = std::max(finest.dims[0], finest.dims[1]);
     levels = 1;
     while ((std::uint64_t{tile_cells} << (levels - 1)) < longest) ++levels;
@@ -600,7 +605,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     TilesetLattice lattice;
     std::vector<CellGrid> coarser;
     if (tileset) {
-        lattice = tileset_lattice(grid.spec, level_count);
+        lattice = tileset_lattice(grid.spec, o.tile_size, level_count);
         for (std::size_t k = 1; k < level_count; ++k)
             coarser.insert(coarser.begin(), coarsen_grid(k == 1 ? grid : coarser.front()));
     }

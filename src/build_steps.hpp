@@ -78,6 +78,11 @@ std::uint64_t resident_bytes();
 // The most memory resident so far.
 std::uint64_t peak_rss_bytes();
 
+// The cells along a tile's edge of `size` (in the CRS's unit) in a grid of `cell`: rounded up
+// to whole bricks, so a plan's tiles rounded again to a coarser grid's bricks give the tiles that
+// `size` gives there (a hair over a whole number of cells, from the product, does not count).
+std::uint32_t tile_cells_for(double size, double cell);
+
 // The checks on what reading takes: inputs, options that cannot work.
 void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o);
 // The checks on what meshing and writing take; returns each output's format.

@@ -70,6 +70,14 @@ std::optional<std::vector<CopcNode>> copc_nodes(const SurveyFile& file) {
 
 } // namespace
 
+std::uint32_t tile_cells_for(double size, double cell) {
+    const double cells = std::ceil(size / cell * (1 - 1e-12));
+    const std::uint64_t brick = CellGrid::brick_size;
+    const auto whole = static_cast<std::uint64_t>(std::min(cells, double(max_grid_cells)));
+    return static_cast<std::uint32_t>(
+        std::clamp<std::uint64_t>((whole + brick - 1) / brick * brick, brick, max_grid_cells));
+}
+
 TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& o, double tile_size) {
     if (o.scan_bounds)
         throw Error(ErrorKind::usage,
@@ -104,17 +112,14 @@ TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& 
     plan.grid = grid_for(header, accumulate);
     const GridSpec& grid = plan.grid;
 
-    std::uint64_t cells = 0;
     if (tile_size > 0) {
-        cells = static_cast<std::uint64_t>(std::ceil(tile_size / grid.cell_size));
+        plan.tile_cells = tile_cells_for(tile_size, grid.cell_size);
     } else {
         const double tiles = std::max(1.0, std::ceil(double(header.point_count) / default_points_per_tile));
-        cells = static_cast<std::uint64_t>(std::ceil(std::sqrt(double(grid.dims[0]) * grid.dims[1] / tiles)));
+        const double cells = std::ceil(std::sqrt(double(grid.dims[0]) * grid.dims[1] / tiles));
+        plan.tile_cells = tile_cells_for(cells * grid.cell_size, grid.cell_size);
     }
-    const std::uint64_t brick = CellGrid::brick_size;
-    cells = std::clamp<std::uint64_t>((cells + brick - 1) / brick * brick, brick, max_grid_cells);
-    plan.tile_cells = static_cast<std::uint32_t>(cells);
-    plan.tile_size = double(cells) * grid.cell_size;
+    plan.tile_size = double(plan.tile_cells) * grid.cell_size;
 
     std::map<std::pair<std::uint32_t, std::uint32_t>, PlannedTile> tiles; // by (y, x)
     // The tiles a box of the survey touches (clamped to the grid: each point has a tile to read it).

@@ -4,12 +4,14 @@
 #include "lasmesh/build_mesh.hpp"
 #include "lasmesh/error.hpp"
 
+#include "build_steps.hpp"
 #include "grid/tile_cells.hpp"
 
 #include <doctest/doctest.h>
 
 #include "test_support.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -115,4 +117,22 @@ TEST_CASE("plan_tiles, run_tile and merge_tiles: the outputs of build_mesh, byte
     BuildOptions scanned = options;
     scanned.scan_bounds = true;
     CHECK(contains(error_text([&] { plan_tiles({input}, scanned, 2.5); }), "a plan reads headers only"));
+    merged.tile_size = read.tile_size / 2; // the plan fixes a tileset's tiles
+    CHECK(contains(error_text([&] { merge_tiles(read, merged); }), "the plan fixes the tiles' size"));
+}
+
+TEST_CASE("a tile's cells: whole bricks; a plan's tiles rounded again to a coarser grid give that grid's tiles") {
+    CHECK(tile_cells_for(12, 0.1663) == 76); // 72.2 cells, then whole bricks
+    CHECK(tile_cells_for(1e-6, 1) == 4);
+    CHECK(tile_cells_for(1e9, 1) == max_grid_cells);
+    for (const double cell : {0.1, 0.1663, 0.0626348, 1.0 / 3, 137.25})
+        for (std::uint32_t cells = 4; cells <= 1024; cells += 4) {
+            CHECK(tile_cells_for(double(cells) * cell, cell) == cells); // a product's last bit is not a cell more
+            const double size = double(cells) * cell * 0.937;           // a user's size, between bricks
+            const double planned = double(tile_cells_for(size, cell)) * cell;
+            for (int coarser = 1; coarser <= 3; ++coarser) {
+                const double cell2 = std::ldexp(cell, coarser); // the automatic grid coarsened after reading
+                CHECK(tile_cells_for(planned, cell2) == tile_cells_for(size, cell2));
+            }
+        }
 }

@@ -20,7 +20,7 @@ trap '"$root/tools/slurm_local.sh" stop "$work/cluster" || true; rm -rf "$work"'
 cd "$work"
 "$lasgen" --scene deck -n "$n" --seed 1 --epsg 32631 --split-xy "$split" -o deck.las
 mkdir one many
-/usr/bin/time -f "%e %U %S %M" -o one.time "$lasmesh" deck-*.las -o one/tileset.json -q
+/usr/bin/time -f "%e %U %S %M" -o one.time "$lasmesh" deck-*.las --tile "$tile" -o one/tileset.json -q
 read -r one_wall one_user one_sys one_kb < one.time
 "$lasmesh" plan deck-*.las --tile "$tile" -o site.plan.json > plan.txt
 head -1 plan.txt

@@ -97,6 +97,9 @@ struct BuildOptions {
     std::uint64_t slice_bytes = 0; // largest upload to the device; 0: 16 MiB
     std::uint64_t max_memory = 0;  // refuse grids needing more (host and device); 0: no limit
     std::vector<OutputRequest> outputs;
+    // A tileset's finest tiles: their edge in x and y, in the CRS's unit, rounded up to whole
+    // bricks (4 cells) of the grid; 0: 64 cells. A plan's tiles are a tileset's tiles of its size.
+    double tile_size = 0;
     std::string report;     // also write the RunReport as JSON here (run_report_json); empty: none
     bool keep_mesh = false; // return the mesh in BuildResult (it can be large)
 };
@@ -280,7 +283,8 @@ struct TilePlan {
 };
 
 // Reads the inputs' headers only (and COPC files' hierarchies) and fixes the grid and the tiles. `tile_size` in the
-// CRS's unit (rounded up to whole bricks of 4 cells); 0: about 20 million promised points a tile. Only the read options
+// CRS's unit (rounded up to whole bricks of 4 cells); 0: about 20 million promised points a tile. One run
+// with BuildOptions::tile_size = plan.tile_size writes the tileset the plan's merge writes. Only the read options
 // of `options` count (grid, bounds, crs); scan_bounds and skip_bad_inputs are refused (Error usage): a tile job must
 // read exactly the files planned. Throws Error (input) naming an input that cannot be read.
 TilePlan plan_tiles(const std::vector<std::string>& inputs, const BuildOptions& options, double tile_size);
@@ -315,8 +319,9 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
 
 // Adds the tiles' sums into the grid and meshes it into options.outputs, as build_mesh(inputs,
 // options) would with the plan's grid, bounds and CRS (the read fields of `options` are not
-// used). Throws Error (input) listing every tile missing, damaged or from another plan, before
-// reading any.
+// used); a tileset's finest tiles are the plan's tiles (options.tile_size: 0, or the plan's).
+// Throws Error (input) listing every tile missing, damaged or from another plan, before reading
+// any.
 BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, BuildObserver* observer = nullptr);
 
 } // namespace lasmesh

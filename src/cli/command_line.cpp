@@ -33,6 +33,7 @@ std::string command_line(const MeshOptions& o) {
     for (const std::string& output : o.outputs) word("-o"), word(output);
     option("--crs", o.crs, d.crs);
     flag("--skip-bad-inputs", o.skip_bad_inputs);
+    if (o.tile != d.tile) word("--tile"), word(format_double(o.tile));
     flag("--refine-thin", o.refine_thin);
     flag("--no-refine-thin", o.no_refine_thin);
     option("--grid", o.grid.grid, d.grid.grid);

@@ -121,6 +121,10 @@ void add_mesh_options(CLI::App& app, MeshOptions& o) {
     app.add_flag("--skip-bad-inputs", o.skip_bad_inputs,
                  "With several inputs: leave out, and name, an input that cannot be read, instead of stopping");
     add_meshing_options(app, o, true);
+    app.add_option("--tile", o.tile,
+                   "A tileset's finest tiles: their edge in x and y, in the CRS's unit (rounded up to 4 cells); "
+                   "the tileset `lasmesh plan --tile SIZE` and its merge write (default: 64 cells)")
+        ->type_name("SIZE");
     add_thin_parts_options(app, o, "from a second read of the input files");
 }
 
@@ -171,6 +175,7 @@ BuildOptions build_options(const MeshOptions& o, bool need_output) {
     b.scan_bounds = o.grid.scan_bounds;
     b.skip_bad_inputs = o.skip_bad_inputs;
     b.crs = o.crs;
+    b.tile_size = o.tile;
     return b;
 }
 

@@ -20,6 +20,7 @@ struct MeshOptions {
     bool refine_thin = false;         // --refine-thin: whatever the density
     bool no_refine_thin = false;      // --no-refine-thin (neither: ThinRefinement::automatic)
     std::string crs;                  // --crs
+    double tile = 0;                  // --tile SIZE: a tileset's finest tiles (0: 64 cells)
     std::vector<std::string> outputs; // the format of each follows its extension
     GridOptions grid;
     std::string iso = "auto";

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "tile_commands.hpp"
 
+#include "io/json.hpp"
 #include "lasmesh/build_mesh.hpp"
 #include "lasmesh/error.hpp"
 #include "mesh_observer.hpp"
@@ -120,7 +121,9 @@ void run_plan(const PlanOptions& o, std::ostream& out) {
         << "  sbatch --array=0-" << last << " lasmesh-tile.sbatch " << name << "\n"
         << "  seq 0 " << last << " | xargs -P 4 -I K lasmesh tile " << name << " --index K\n"
         << "then join them:\n"
-        << "  lasmesh merge " << name << " -o tileset.json\n";
+        << "  lasmesh merge " << name << " -o tileset.json\n"
+        << "(the tileset one machine writes with lasmesh INPUTS... --tile " << format_double(plan.tile_size)
+        << " -o tileset.json)\n";
 }
 
 std::size_t tile_index(const std::optional<std::size_t>& given, const char* slurm, const char* kubernetes) {

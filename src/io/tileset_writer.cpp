@@ -210,6 +210,7 @@ WrittenTileset write_tileset(const std::vector<TilesetLevel>& levels, const Tile
     Json per_level = Json::array();
     for (std::size_t k = 0; k < levels.size(); ++k)
         per_level.push_back({{"cell_size", levels[k].mesh->cell_size},
+                             {"tile_size", lattice.root_edge / std::ldexp(1.0, static_cast<int>(k))},
                              {"tiles", written.tiles[k]},
                              {"triangles", written.triangles[k]},
                              {"geometric_error", errors[k]}});

@@ -26,7 +26,7 @@ source cluster.env
 
 "$lasgen" --scene deck --points 300000 --seed 6 --epsg 32631 --split-xy 3 -o deck.las > /dev/null
 mkdir one many
-"$lasmesh" deck-*.las -o one/tileset.json -o one/mesh.ply -q
+"$lasmesh" deck-*.las --tile 16 -o one/tileset.json -o one/mesh.ply -q
 "$lasmesh" plan deck-*.las --tile 16 -o site.plan.json > plan.txt
 tiles=$(python3 -c 'import json; print(len(json.load(open("site.plan.json"))["tiles"]))')
 timeout 300 sbatch --wait --array=0-$((tiles - 1)) --export=ALL,LASMESH="$lasmesh" \

@@ -15,7 +15,7 @@ cd "$dir" || exit 1
 "$lasgen" --scene deck --points 300000 --seed 5 --epsg 32631 --split-xy 3 -o deck.las > /dev/null
 inputs=(deck-*.las)
 mkdir -p one many
-"$lasmesh" "${inputs[@]}" -o one/tileset.json -o one/mesh.ply -o one/mesh.glb -q
+"$lasmesh" "${inputs[@]}" --tile 12 -o one/tileset.json -o one/mesh.ply -o one/mesh.glb -q
 "$lasmesh" plan "${inputs[@]}" --tile 12 -o site.plan.json > plan.txt; rc=$?
 check "plan: exit 0" test "$rc" -eq 0
 tiles=$(python3 -c 'import json; print(len(json.load(open("site.plan.json"))["tiles"]))')
@@ -35,6 +35,26 @@ check "merge: the summary names the outputs" has merge.txt "many/tileset.json"
 check "merged PLY = one run's PLY, byte for byte" cmp -s one/mesh.ply many/mesh.ply
 check "merged GLB = one run's GLB" cmp -s one/mesh.glb many/mesh.glb
 check "merged tileset = one run's tileset, every file" diff -r one many
+# The tileset's finest tiles are the plan's: one .glb for each planned tile with surface, named by
+# its column and row, and their edge the plan's; without --tile (64 cells) one run's differ.
+check "the finest tiles are the plan's tiles" python3 -c '
+import json, os
+p = json.load(open("site.plan.json")); t = json.load(open("many/tileset.json"))
+levels = t["extras"]["lasmesh"]["levels"]
+assert abs(levels[-1]["tile_size"] - p["tile"]["size"]) < 1e-9, (levels[-1], p["tile"])
+folder = os.path.join("many", [d for d in os.listdir("many") if d.startswith("tileset-")][0], str(len(levels) - 1))
+names = {n[:-4] for n in os.listdir(folder)}
+planned = {"%d_%d" % (tile["x"], tile["y"]) for tile in p["tiles"]}
+assert names and names <= planned and len(names) >= len(planned) - 1, (sorted(names), sorted(planned))'
+printed=$(sed -n 's/.*lasmesh INPUTS\.\.\. --tile \([0-9.]*\) -o tileset.json.*/\1/p' plan.txt)
+mkdir -p printed default
+"$lasmesh" "${inputs[@]}" --tile "$printed" -o printed/tileset.json -q
+check "the plan prints the --tile that gives its tileset on one machine" diff -r printed/tileset.json many/tileset.json
+"$lasmesh" "${inputs[@]}" -o default/tileset.json -q
+check "without --tile, one run's tileset has other tiles" bash -c "! diff -rq default/tileset.json many/tileset.json > /dev/null"
+"$lasmesh" "${inputs[@]}" --tile 12 -o tile.ply > tile-ply.txt 2>&1; rc=$?
+check "--tile without a tileset output: usage error (1) naming it" test "$rc" -eq 1 -a ! -e tile.ply
+check "--tile without a tileset output: says why" has tile-ply.txt "--tile"
 # Thin parts: the merge reads the inputs again for them, as one machine does.
 "$lasmesh" "${inputs[@]}" -o thin-one.ply --refine-thin > thin-one.txt 2>&1
 "$lasmesh" merge site.plan.json -o thin-many.ply --refine-thin > thin-many.txt 2>&1; rc=$?
