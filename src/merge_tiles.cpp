@@ -51,6 +51,8 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
     // Every tile first: all that are missing or damaged are named together, before any meshing.
+    // Only their bricks are kept from this read: their cells are read again one tile at a time
+    // into the grid, so the merge holds the grid and one tile's cells, not all tiles' twice.
     watch.stage_started(BuildStage::read_accumulate, "reading " + std::to_string(plan.tiles.size()) + " tiles");
     std::vector<TileCells> tiles(plan.tiles.size());
     std::vector<std::size_t> bad;
@@ -70,6 +72,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             if (bad.size() <= 5) reasons += "\n  " + problem;
             tiles[k] = TileCells{};
         }
+        std::vector<CellSums>().swap(tiles[k].cells);
     }
     if (!bad.empty()) // the suggestion: the tiles to run again, as an array job's indices
         throw Error(ErrorKind::input,
@@ -102,20 +105,37 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
         grid.color_max_word = std::max(grid.color_max_word, tiles[k].color_max_word);
     }
     std::sort(order.begin(), order.end());
-    std::uint64_t in_cells = 0;
+    std::vector<std::vector<std::uint32_t>> placed(tiles.size()); // per tile and brick: its place in the grid
+    for (std::size_t k = 0; k < tiles.size(); ++k) placed[k].resize(tiles[k].brick_keys.size());
+    std::uint64_t cell_count = 0;
     for (std::size_t i = 0; i < order.size(); ++i) {
         const auto [key, k, b] = order[i];
         if (i > 0 && std::get<0>(order[i - 1]) == key)
             throw_input_error(tile_path(plan, k), "holds a brick tile " + std::to_string(std::get<1>(order[i - 1])) +
                                                       " holds too: the tiles do not belong to one plan");
+        placed[k][b] = static_cast<std::uint32_t>(i);
         grid.brick_keys.push_back(key);
         grid.brick_masks.push_back(tiles[k].brick_masks[b]);
-        grid.brick_first.push_back(grid.cells.size());
-        const std::uint64_t first = tiles[k].brick_first[b];
-        const auto n = static_cast<std::uint64_t>(std::popcount(tiles[k].brick_masks[b]));
-        for (std::uint64_t c = 0; c < n; ++c) {
-            grid.cells.push_back(tiles[k].cells[first + c]);
-            in_cells += grid.cells.back().count;
+        grid.brick_first.push_back(cell_count);
+        cell_count += static_cast<std::uint64_t>(std::popcount(tiles[k].brick_masks[b]));
+    }
+    grid.cells.resize(cell_count);
+    std::uint64_t in_cells = 0;
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+        const TileCells again = read_tile_cells(tile_path(plan, k));
+        const auto same_counts = [](const TileInputCount& a, const TileInputCount& b) {
+            return a.input == b.input && a.records == b.records && a.outside == b.outside;
+        };
+        if (again.plan_hash != tiles[k].plan_hash || again.brick_keys != tiles[k].brick_keys ||
+            again.brick_masks != tiles[k].brick_masks ||
+            !std::equal(again.inputs.begin(), again.inputs.end(), tiles[k].inputs.begin(), tiles[k].inputs.end(),
+                        same_counts))
+            throw_input_error(tile_path(plan, k), "changed while the merge read it: run the merge again");
+        for (std::size_t b = 0; b < again.brick_keys.size(); ++b) {
+            const auto n = static_cast<std::uint64_t>(std::popcount(again.brick_masks[b]));
+            const CellSums* from = again.cells.data() + again.brick_first[b];
+            std::copy_n(from, n, grid.cells.data() + grid.brick_first[placed[k][b]]);
+            for (std::uint64_t c = 0; c < n; ++c) in_cells += from[c].count;
         }
     }
     grid.index_bricks();
