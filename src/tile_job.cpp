@@ -211,7 +211,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     const CellGrid grid = accumulate_cells(reader, device, accumulate);
 
     // Only the tile's points reached the device: its bricks are the grid's (a tile's cells start
-    // and end on bricks), in key order, each brick's cells after the last's.
+    // and end on bricks), written in key order, each brick's cells after the last's.
     TileCells cells;
     cells.plan_hash = plan.hash;
     cells.index = index;
@@ -222,26 +222,17 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     for (std::size_t w = 0; w < reader.warnings().size(); ++w)
         cells.warnings.push_back({tile.inputs[reader.warning_files()[w]], reader.warnings()[w]});
     TileReport report;
-    for (std::size_t b = 0; b < grid.brick_keys.size(); ++b) {
-        cells.brick_keys.push_back(grid.brick_keys[b]);
-        cells.brick_masks.push_back(grid.brick_masks[b]);
-        cells.brick_first.push_back(cells.cells.size());
-        const auto n = static_cast<std::uint64_t>(std::popcount(grid.brick_masks[b]));
-        for (std::uint64_t c = 0; c < n; ++c) {
-            cells.cells.push_back(grid.cells[grid.brick_first[b] + c]);
-            report.points_in_tile += cells.cells.back().count;
-        }
-    }
+    for (const CellSums& c : grid.cells) report.points_in_tile += c.count;
     std::error_code failed;
     std::filesystem::create_directories(tiles_folder(plan), failed);
     if (failed)
         throw Error(ErrorKind::output, tiles_folder(plan) + ": cannot create the tiles' folder: " + failed.message());
     report.index = index;
     report.path = tile_path(plan, index);
-    report.bytes = write_tile_cells(cells, report.path);
+    report.bytes = write_tile_cells(cells, report.path, &grid); // the grid's cells, without a copy
     report.inputs_read = tile.inputs.size();
     report.points_read = points_read;
-    report.occupied_cells = cells.cells.size();
+    report.occupied_cells = grid.cells.size();
     report.seconds = seconds_since(start);
     report.peak_rss_bytes = peak_rss_bytes();
     return report;

@@ -104,7 +104,7 @@ class WordReader {
 
 } // namespace
 
-std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path) {
+std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path, const CellGrid* grid) {
     OutputFile file(path);
     WordWriter out(file);
     out.bytes(magic, 8);
@@ -118,15 +118,30 @@ std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path) {
         out.word(input.input), out.word(input.records), out.word(input.outside);
     out.word(tile.warnings.size());
     for (const TileWarning& warning : tile.warnings) out.word(warning.input), out.text(warning.text);
-    out.word(tile.brick_keys.size());
-    for (std::size_t b = 0; b < tile.brick_keys.size(); ++b)
-        out.word(tile.brick_keys[b]), out.word(tile.brick_masks[b]), out.word(tile.brick_first[b]);
-    out.word(tile.cells.size());
-    for (const CellSums& cell : tile.cells) {
-        out.word(cell.count);
-        for (const std::uint64_t p : cell.position) out.word(p);
-        for (const std::uint64_t c : cell.color) out.word(c);
-        for (const std::uint64_t m : cell.moments) out.word(m);
+    const auto cell = [&](const CellSums& c) {
+        out.word(c.count);
+        for (const std::uint64_t p : c.position) out.word(p);
+        for (const std::uint64_t v : c.color) out.word(v);
+        for (const std::uint64_t m : c.moments) out.word(m);
+    };
+    if (grid) { // the grid's bricks, their cells one brick after the other in key order
+        out.word(grid->brick_keys.size());
+        std::uint64_t first = 0;
+        for (std::size_t b = 0; b < grid->brick_keys.size(); ++b) {
+            out.word(grid->brick_keys[b]), out.word(grid->brick_masks[b]), out.word(first);
+            first += static_cast<std::uint64_t>(std::popcount(grid->brick_masks[b]));
+        }
+        out.word(first);
+        for (std::size_t b = 0; b < grid->brick_keys.size(); ++b) {
+            const auto n = static_cast<std::uint64_t>(std::popcount(grid->brick_masks[b]));
+            for (std::uint64_t c = 0; c < n; ++c) cell(grid->cells[grid->brick_first[b] + c]);
+        }
+    } else {
+        out.word(tile.brick_keys.size());
+        for (std::size_t b = 0; b < tile.brick_keys.size(); ++b)
+            out.word(tile.brick_keys[b]), out.word(tile.brick_masks[b]), out.word(tile.brick_first[b]);
+        out.word(tile.cells.size());
+        for (const CellSums& c : tile.cells) cell(c);
     }
     out.finish();
     file.commit();

@@ -43,8 +43,10 @@ struct TileCells {
     std::vector<CellSums> cells;
 };
 
-// Writes `tile` to `path` atomically (an OutputFile); throws Error (output).
-std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path);
+// Writes `tile` to `path` atomically (an OutputFile); throws Error (output). With `grid`, the
+// bricks and cells written are the grid's (in key order, as read_tile_cells gives them), not
+// tile's: a tile job writes its grid without a copy of its cells.
+std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path, const CellGrid* grid = nullptr);
 
 // Reads a tile's file; throws Error (input) saying what is wrong: missing, not a tile's file,
 // cut short, damaged (the hash), or holding impossible numbers.
