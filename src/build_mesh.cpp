@@ -245,8 +245,6 @@ std::vector<MeshFormat> check_mesh_options(const std::vector<std::string>& input
         usage_error("min_piece", "the smallest piece must be a length, or a fraction of the mesh diagonal from 0 to 1");
     if (o.threads < 0) usage_error("threads", "the thread count must be 0 (all cores) or more");
     if (!finite_at_least_zero(o.tile_size)) usage_error("tile", "the tile size must be a length, at least 0");
-    if (o.tile_size > 0 && std::find(formats.begin(), formats.end(), MeshFormat::tileset) == formats.end())
-        usage_error("tile", "a tile size is for a 3D Tiles tileset: give an output ending in .json");
     return formats;
 }
 

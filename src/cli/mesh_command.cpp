@@ -3,6 +3,7 @@
 // library, and the summary or the report printed. The pipeline itself is build_mesh.
 #include "mesh_command.hpp"
 
+#include "io/write_into.hpp"
 #include "lasmesh/error.hpp"
 #include "mesh_observer.hpp"
 #include "mesh_report.hpp"
@@ -140,6 +141,13 @@ void add_thin_parts_options(CLI::App& app, MeshOptions& o, const std::string& re
         ->excludes(refine);
 }
 
+void check_tile_option(const BuildOptions& b) {
+    if (b.tile_size != 0 && std::none_of(b.outputs.begin(), b.outputs.end(), [](const OutputRequest& output) {
+            return output_format(output) == MeshFormat::tileset;
+        }))
+        throw Error(ErrorKind::usage, "--tile sets a 3D Tiles tileset's tiles: give an output ending in .json", "tile");
+}
+
 BuildOptions build_options(const MeshOptions& o, bool need_output) {
     if (need_output && o.outputs.empty() && o.preview.empty())
         throw Error(ErrorKind::usage, "no output: give -o OUT.ply, OUT.drc or OUT.glb");
@@ -227,8 +235,10 @@ void run_with_summary(const MeshOptions& o, BuildOptions options,
 
 void run_mesh(const MeshOptions& o, std::ostream& summary) {
     const std::vector<std::string> inputs = all_inputs(o);
+    const BuildOptions options = build_options(o);
+    check_tile_option(options);
     run_with_summary(
-        o, build_options(o),
+        o, options,
         [&](const BuildOptions& options, BuildObserver& observer) { return build_mesh(inputs, options, &observer); },
         summary);
 }

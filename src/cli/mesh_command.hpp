@@ -48,6 +48,8 @@ void add_thin_parts_options(CLI::App& app, MeshOptions& options, const std::stri
 // The option text converted into the library's options, which the library checks (before
 // reading); throws Error (usage) without an output when `need_output`.
 BuildOptions build_options(const MeshOptions& options, bool need_output = true);
+// Throws Error (usage) when --tile is given without a tileset output (the command line's).
+void check_tile_option(const BuildOptions& options);
 // The inputs named on the command line, then those of --inputs LIST.
 std::vector<std::string> all_inputs(const MeshOptions& options);
 // Calls `run` with `options` and an observer drawing progress, then prints the summary as the main

@@ -96,6 +96,7 @@ bool reads_differently(const MeshOptions& a, const MeshOptions& b) {
 
 ViewSession::ViewSession(const MeshOptions& options, std::ostream& log) : log_(log), inputs_(all_inputs(options)) {
     const BuildOptions b = build_options(options, false);
+    check_tile_option(b);
     if (inputs_.empty()) throw Error(ErrorKind::usage, "no input given: nothing to view", "inputs");
     log_ << "lasmesh view: reading "
          << (inputs_.size() == 1 ? inputs_.front() : std::to_string(inputs_.size()) + " files") << " and meshing it"
