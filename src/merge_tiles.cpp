@@ -43,10 +43,9 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     if (options.tile_size != 0 && options.tile_size != plan.tile_size)
         throw Error(ErrorKind::usage, "the plan fixes the tiles' size: leave it out of the merge", "tile");
     BuildOptions o = planned_options(plan, options);
-    if (o.refine_thin == ThinRefinement::always) check_read_options(paths, o); // the inputs are read again
-    o.tile_size = 0;
-    const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
     o.tile_size = plan.tile_size; // a tileset's finest tiles are the plan's
+    if (o.refine_thin == ThinRefinement::always) check_read_options(paths, o); // the inputs are read again
+    const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
