@@ -120,11 +120,11 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     }
     grid.cells.resize(cell_count);
     std::uint64_t in_cells = 0;
+    const auto same_counts = [](const TileInputCount& a, const TileInputCount& b) {
+        return a.input == b.input && a.records == b.records && a.outside == b.outside;
+    };
     for (std::size_t k = 0; k < tiles.size(); ++k) {
         const TileCells again = read_tile_cells(tile_path(plan, k));
-        const auto same_counts = [](const TileInputCount& a, const TileInputCount& b) {
-            return a.input == b.input && a.records == b.records && a.outside == b.outside;
-        };
         if (again.plan_hash != tiles[k].plan_hash || again.brick_keys != tiles[k].brick_keys ||
             again.brick_masks != tiles[k].brick_masks ||
             !std::equal(again.inputs.begin(), again.inputs.end(), tiles[k].inputs.begin(), tiles[k].inputs.end(),

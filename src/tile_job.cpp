@@ -212,15 +212,15 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
 
     // Only the tile's points reached the device: its bricks are the grid's (a tile's cells start
     // and end on bricks), written in key order, each brick's cells after the last's.
-    TileCells cells;
-    cells.plan_hash = plan.hash;
-    cells.index = index;
-    cells.color = grid.color;
-    cells.color_max_word = grid.color_max_word;
-    cells.device = device.info().name;
-    cells.inputs = counts;
+    TileCells written; // what the file says besides the grid's cells
+    written.plan_hash = plan.hash;
+    written.index = index;
+    written.color = grid.color;
+    written.color_max_word = grid.color_max_word;
+    written.device = device.info().name;
+    written.inputs = counts;
     for (std::size_t w = 0; w < reader.warnings().size(); ++w)
-        cells.warnings.push_back({tile.inputs[reader.warning_files()[w]], reader.warnings()[w]});
+        written.warnings.push_back({tile.inputs[reader.warning_files()[w]], reader.warnings()[w]});
     TileReport report;
     for (const CellSums& c : grid.cells) report.points_in_tile += c.count;
     std::error_code failed;
@@ -229,7 +229,7 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
         throw Error(ErrorKind::output, tiles_folder(plan) + ": cannot create the tiles' folder: " + failed.message());
     report.index = index;
     report.path = tile_path(plan, index);
-    report.bytes = write_tile_cells(cells, report.path, &grid); // the grid's cells, without a copy
+    report.bytes = write_tile_cells(written, report.path, &grid); // the grid's cells, without a copy
     report.inputs_read = tile.inputs.size();
     report.points_read = points_read;
     report.occupied_cells = grid.cells.size();
