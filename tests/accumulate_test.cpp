@@ -295,6 +295,31 @@ TEST_CASE("sums beyond 32 bits are exact: 70,000 white 16-bit points in one cell
         CHECK(cell->moments[k] == 70000 * offset[moment_axes[k][0]] * offset[moment_axes[k][1]]);
 }
 
+TEST_CASE("sums beyond their lanes are exact in narrow cells: 20,000 points in a cell 100 raw units wide") {
+    // Centimetre scale, 1 m cells: three 21-bit lanes of moments a word. 20,000 points at 99 raw
+    // units from the cell's start wrap every position and moment lane many times, each wrap
+    // spilling into the lane above, which the carries must take back.
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points(20000, at(0.9901, 0.9901, 0.9901, {255, 255, 255}));
+    for (int i = 0; i < 3000; ++i) points.push_back(at(1.5 + (i % 10) * 0.05, 0.5, 0.5)); // a neighbour cell
+    test::write_file(dir.file("narrow.las"), las_with_points(points, {0, 0, 0}, {2, 1, 1}, 8, 2, 0.01));
+    const CellGrid g = accumulate_file(dir.file("narrow.las"), exact_grid({0, 0, 0}, 1, {2, 1, 1}));
+    const CellSums* cell = g.find(0, 0, 0);
+    REQUIRE(cell != nullptr);
+    CHECK(cell->count == 20000);
+    std::array<std::uint64_t, 3> offset{};
+    for (int a = 0; a < 3; ++a) offset[a] = static_cast<std::uint64_t>(99 - g.axes[a].starts[0]);
+    REQUIRE(offset[0] >= 98);
+    for (int a = 0; a < 3; ++a) CHECK(cell->position[a] == 20000 * offset[a]);
+    for (std::size_t k = 0; k < 6; ++k)
+        CHECK(cell->moments[k] == 20000 * offset[moment_axes[k][0]] * offset[moment_axes[k][1]]);
+    for (int c = 0; c < 3; ++c) CHECK(cell->color[c] == 20000u * 255);
+    REQUIRE(20000 * offset[0] * offset[0] > (std::uint64_t{1} << 21) * 64); // many times past a 21-bit lane
+    const CellSums* next = g.find(1, 0, 0);
+    REQUIRE(next != nullptr);
+    CHECK(next->count == 3000);
+}
+
 TEST_CASE("sums beyond 32 bits are exact: cells a billion raw units wide, whole and in small slices") {
     test::TempDir dir;
     // Scale 1e-8 over 20 m: each of the 2 x 2 x 2 cells is 10^9 raw units wide, so one run of 32
