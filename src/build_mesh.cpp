@@ -10,6 +10,7 @@
 #include "grid/cell_set.hpp"
 #include "grid/cell_sums.hpp"
 #include "grid/compute_device.hpp"
+#include "grid/records_in_cells.hpp"
 #include "grid/thin_parts.hpp"
 #include "io/output_file.hpp"
 #include "io/ply_writer.hpp"
@@ -522,57 +523,13 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     for (std::uint32_t& d : fine.dims) d *= 2;
     accumulate.spec = fine;
     accumulate.memory_in_use = resident_bytes();
-    // Only the points of the cells near the thin parts reach the device (the survey's frame: the
-    // same raw integers the grid's cell starts are in). Each axis's cell of a raw value comes from
-    // a table over the grid's raw values when it spans at most 4M of them, else from the starts.
-    const std::size_t length = opened.survey.header.point_record_length;
-    std::array<std::vector<std::uint16_t>, 3> cell_table; // max_grid_cells fit in 16 bits
-    for (int a = 0; a < 3; ++a) {
-        const std::vector<std::int64_t>& starts = grid.axes[a].starts;
-        if (starts.back() - starts.front() > (std::int64_t{1} << 22)) continue;
-        cell_table[a].resize(static_cast<std::size_t>(starts.back() - starts.front()));
-        for (std::size_t c = 0; c + 1 < starts.size(); ++c)
-            std::fill(cell_table[a].begin() + (starts[c] - starts.front()),
-                      cell_table[a].begin() + (starts[c + 1] - starts.front()), static_cast<std::uint16_t>(c));
-    }
-    const auto cell_of = [&](int a, std::int64_t raw) -> std::int64_t {
-        const std::vector<std::int64_t>& starts = grid.axes[a].starts;
-        if (raw < starts.front() || raw >= starts.back()) return -1;
-        if (!cell_table[a].empty()) return cell_table[a][static_cast<std::size_t>(raw - starts.front())];
-        return std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1;
-    };
-    const CellSet near_thin(read_cells, dims); // most points lie far from any thin part
-    // Each block of records keeps its points near a thin part at its front, in parallel; then
-    // the blocks' kept runs are moved together, in order.
-    constexpr std::size_t block = 4096;
-    std::vector<std::size_t> kept_in;
+    // Only the points of the cells near the thin parts reach the device (most points lie far
+    // from any); the survey's frame has the raw integers the grid's cell starts are in.
+    const CellSet near_cells(read_cells, dims);
+    const RecordsInCells near_thin(grid.axes, near_cells, opened.survey.header.point_record_length);
     SurveyReader reader(opened.survey, opened.single.get());
-    reader.on_records([&](std::size_t, std::byte* records, std::size_t count) {
-        kept_in.assign((count + block - 1) / block, 0);
-        tbb::parallel_for(std::size_t{0}, kept_in.size(), [&](std::size_t b) {
-            std::byte* front = records + b * block * length;
-            std::size_t kept = 0;
-            for (std::size_t i = b * block; i < std::min(count, (b + 1) * block); ++i) {
-                const std::byte* at = records + i * length;
-                const std::int64_t x = cell_of(0, load_le<std::int32_t>(at)),
-                                   y = cell_of(1, load_le<std::int32_t>(at + 4)),
-                                   z = cell_of(2, load_le<std::int32_t>(at + 8));
-                if (x < 0 || y < 0 || z < 0 ||
-                    !near_thin.contains(std::uint64_t(x), std::uint64_t(y), std::uint64_t(z)))
-                    continue;
-                if (front + kept * length != at) std::memmove(front + kept * length, at, length);
-                ++kept;
-            }
-            kept_in[b] = kept;
-        });
-        std::size_t kept = 0;
-        for (std::size_t b = 0; b < kept_in.size(); ++b) {
-            if (kept != b * block && kept_in[b] > 0)
-                std::memmove(records + kept * length, records + b * block * length, kept_in[b] * length);
-            kept += kept_in[b];
-        }
-        return kept;
-    });
+    reader.on_records(
+        [&](std::size_t, std::byte* records, std::size_t count) { return near_thin.keep(records, count); });
     watch.stage_started(BuildStage::read_accumulate, "reading the thin parts again");
     ComputeDevice device(o.device);
     refined.fine = accumulate_cells(reader, device, accumulate);

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Thin parts: the eigenvalues their test rests on, and the cells found on the generated deck:
 // the railings' (thinner than a cell), not the deck's middle, a container's top or a pipe's.
+#include "byte_order.hpp"
 #include "grid/cell_set.hpp"
+#include "grid/records_in_cells.hpp"
 #include "grid/thin_parts.hpp"
 #include "lasgen/scene.hpp"
 #include "lasmesh/grid.hpp"
@@ -13,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <set>
 
@@ -84,6 +87,59 @@ TEST_CASE("cell set: exactly its cells, found by the bits per brick and by the h
         CHECK(wrong == 0);
     }
     CHECK_FALSE(CellSet({}, dims).contains(0, 0, 0));
+}
+
+TEST_CASE("records in cells: exactly the records whose cell is in the set, in their order, at any raw span") {
+    // Records of 26 bytes (X, Y, Z, then the record's number) in and around a 37 x 11 x 6 grid,
+    // some on the cells' starts and ends and outside on every side; kept by the rule of
+    // AxisCells::cell_of. At millimetres the table has a run for every raw value; at 0.1 um the
+    // grid spans 37 million raw values along x and a run holds several, which the starts settle.
+    const std::array<std::int64_t, 3> dims{37, 11, 6};
+    std::mt19937_64 random(11);
+    std::set<std::uint64_t> chosen;
+    for (int i = 0; i < 700; ++i) chosen.insert(random() % std::uint64_t(dims[0] * dims[1] * dims[2]));
+    const std::vector<std::uint64_t> keys(chosen.begin(), chosen.end());
+    const CellSet set(keys, dims);
+    GridSpec spec;
+    spec.origin = {1000.3, -20.7, 5.1};
+    spec.cell_size = 0.0999;
+    spec.dims = {37, 11, 6};
+    constexpr std::size_t length = 26, count = 20000; // blocks of 4,096 records and a part of one
+    for (const double scale : {0.001, 1e-7}) {
+        CAPTURE(scale);
+        const std::array<double, 3> offset{1000, -21, 5};
+        std::array<AxisCells, 3> axes;
+        for (int a = 0; a < 3; ++a) axes[a] = axis_cells(spec, a, scale, offset[a]);
+        std::vector<std::byte> records(count * length);
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t i = 0; i < count; ++i) {
+            std::array<std::int64_t, 3> raw{}, cell{};
+            for (int a = 0; a < 3; ++a) {
+                const std::vector<std::int64_t>& starts = axes[a].starts;
+                const std::int64_t first = starts.front(), last = starts.back();
+                const std::uint64_t pick = random() % 10;
+                if (pick == 0) // a cell's start or the last raw value of the one before
+                    raw[a] = starts[random() % starts.size()] - std::int64_t(random() % 2);
+                else if (pick == 1) // outside, just or far
+                    raw[a] =
+                        random() % 2 ? first - 1 - std::int64_t(random() % 1000) : last + std::int64_t(random() % 1000);
+                else
+                    raw[a] = first + std::int64_t(random() % std::uint64_t(last - first));
+                cell[a] = axes[a].cell_of(raw[a]);
+                store_le<std::int32_t>(records.data() + i * length + 4 * a, std::int32_t(raw[a]));
+            }
+            std::memcpy(records.data() + i * length + 12, &i, sizeof i);
+            if (cell[0] >= 0 && cell[1] >= 0 && cell[2] >= 0 &&
+                chosen.contains(std::uint64_t((cell[2] * dims[1] + cell[1]) * dims[0] + cell[0])))
+                expected.push_back(i);
+        }
+        REQUIRE(expected.size() > 1000);
+        const RecordsInCells in_set(axes, set, length);
+        const std::size_t kept = in_set.keep(records.data(), count);
+        std::vector<std::uint32_t> got(kept);
+        for (std::size_t k = 0; k < kept; ++k) std::memcpy(&got[k], records.data() + k * length + 12, sizeof got[k]);
+        CHECK(got == expected);
+    }
 }
 
 TEST_CASE("triangles kept by the cell or brick of their centroid, in their order, unused vertices dropped") {
