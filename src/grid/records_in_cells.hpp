@@ -3,7 +3,8 @@
 // moved to the front in their order. The thin parts' second read keeps so the points near them:
 // every record of the input passes it, most are turned away, so it must cost a few nanoseconds.
 //
-//     const RecordsInCells near(grid.axes, CellSet(keys, dims), record_length);
+//     const CellSet cells(keys, dims);                       // must outlive `near`, as must grid
+//     const RecordsInCells near(grid.axes, cells, record_length);
 //     const std::size_t kept = near.keep(records, count); // records[0..kept) are the kept ones
 #pragma once
 
