@@ -41,6 +41,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <memory>
 #include <mutex>
 
@@ -480,11 +481,11 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
     return true;
 }
 
-std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,
-                                            const std::vector<std::string>& left_out, const BuildOptions& o,
-                                            const CellGrid& grid, BuildObserver& watch, RunReport& r) {
-    const auto start = std::chrono::steady_clock::now();
-    Refinement refined;
+// The second read's largest upload to the device when the options leave it open.
+constexpr std::uint64_t thin_read_slice_bytes = 4ull << 20;
+
+std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid& grid, RunReport& r) {
+    ThinReadPlan plan;
     const std::vector<std::array<std::int64_t, 3>> thin_at = thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid));
     if (thin_at.empty()) {
         r.thin_unrefined = "no thin parts found";
@@ -497,17 +498,29 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
             return std::nullopt;
         }
     const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
-    refined.cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
-    const std::vector<std::uint64_t> read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);
+    plan.mesh_cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
+    plan.read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);
+    plan.spec = grid.spec;
+    plan.axes = grid.axes;
+    return plan;
+}
+
+Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::string>& inputs,
+                           const std::vector<std::string>& left_out, const BuildOptions& o, BuildObserver& watch,
+                           RunReport& r) {
+    const auto start = std::chrono::steady_clock::now();
+    Refinement refined;
+    refined.cells = plan.mesh_cells;
     r.thin_cells = refined.cells.size();
+    const GridSpec& spec = plan.spec;
     RunReport again; // the first read reported the survey's notes
     // The fine grid is fixed (below): with scanned bounds, the records are not scanned a third
     // time (the files the scan left out are in `left_out`); any bounds stop the headers' check.
     BuildOptions read_again = o;
     if (read_again.scan_bounds && !read_again.bounds) {
         read_again.scan_bounds = false;
-        Bounds box{grid.spec.origin, grid.spec.origin};
-        for (int a = 0; a < 3; ++a) box.max[a] += grid.spec.cell_size * grid.spec.dims[a];
+        Bounds box{spec.origin, spec.origin};
+        for (int a = 0; a < 3; ++a) box.max[a] += spec.cell_size * spec.dims[a];
         read_again.bounds = box;
     }
     SurveyStart opened = open_survey(inputs, read_again, again);
@@ -518,15 +531,18 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
                 break;
             }
     AccumulateOptions accumulate = opened.accumulate;
-    GridSpec fine = grid.spec;
+    GridSpec fine = spec;
     fine.cell_size /= 2; // exact: the fine cells split the grid's cells in two on every axis
     for (std::uint32_t& d : fine.dims) d *= 2;
     accumulate.spec = fine;
     accumulate.memory_in_use = resident_bytes();
+    // Smaller slices than the first read's: this read runs while the grid is extracted, so its
+    // memory adds to the extraction's (4 MiB measured as fast as 16 on the deck).
+    if (!o.slice_bytes) accumulate.slice_bytes = thin_read_slice_bytes;
     // Only the points of the cells near the thin parts reach the device (most points lie far
     // from any); the survey's frame has the raw integers the grid's cell starts are in.
-    const CellSet near_cells(read_cells, dims);
-    const RecordsInCells near_thin(grid.axes, near_cells, opened.survey.header.point_record_length);
+    const CellSet near_cells(plan.read_cells, {spec.dims[0], spec.dims[1], spec.dims[2]});
+    const RecordsInCells near_thin(plan.axes, near_cells, opened.survey.header.point_record_length);
     SurveyReader reader(opened.survey, opened.single.get());
     reader.on_records(
         [&](std::size_t, std::byte* records, std::size_t count) { return near_thin.keep(records, count); });
@@ -534,19 +550,46 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     ComputeDevice device(o.device);
     refined.fine = accumulate_cells(reader, device, accumulate);
     r.thin_read = seconds_since(start);
-    watch.detail("thin parts     " + std::to_string(read_cells.size()) + " cells read again at cells of " +
+    watch.detail("thin parts     " + std::to_string(plan.read_cells.size()) + " cells read again at cells of " +
                  four_digits(fine.cell_size) + ": " + std::to_string(refined.fine.occupied_cells()) +
                  " occupied cells, in " + two_digits(r.thin_read) + " s");
     return refined;
+}
+
+Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid) {
+    // A quarter of the iso: the same points per area in cells of half the edge; an automatic one
+    // rounded as automatic_iso rounds (not the finer grid's own median, which would follow how
+    // far around the thin parts its points were read).
+    const double fine_iso = iso_auto ? std::max(1.0, std::floor(iso / 4)) : iso / 4;
+    Mesh thin = extract_sheet(refined.fine, fine_iso, LinearParts::tubes);
+    keep_triangles_in_blocks(thin, grid, 0, refined.cells, true);
+    return thin;
+}
+
+std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,
+                                            const std::vector<std::string>& left_out, const BuildOptions& o,
+                                            const CellGrid& grid, BuildObserver& watch, RunReport& r) {
+    const std::optional<ThinReadPlan> plan = plan_thin_read(o, grid, r);
+    if (!plan) return std::nullopt;
+    return read_thin_parts(*plan, inputs, left_out, o, watch, r);
 }
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
-                      double seconds_before, const Refinement* refined) {
+                      double seconds_before, const Refinement* refined, const ThinReadPlan* thin_read) {
     const auto mesh_start = std::chrono::steady_clock::now();
     BuildResult result;
+    // Under a memory limit the second read comes first, alone: each step's check of the memory
+    // it will take counts on the others' being done.
+    std::optional<Refinement> read_first;
+    if (thin_read && o.max_memory) {
+        read_first = read_thin_parts(*thin_read, inputs, a.left_out, o, watch, r);
+        r.read_accumulate += r.thin_read;
+        refined = &*read_first, thin_read = nullptr;
+    }
+    const bool thin_refined = refined || thin_read;
     watch.stage_started(BuildStage::extract, "extracting the surface");
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
@@ -571,7 +614,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         std::shared_ptr<const Accumulation::Surface> kept; // the finest level's, when it has the same options
         if (pieces && a.keeps_surface) {
             const std::lock_guard lock(a.surface_mutex);
-            if (a.surface && a.surface->same_options(iso, o, refined != nullptr)) kept = a.surface;
+            if (a.surface && a.surface->same_options(iso, o, thin_refined)) kept = a.surface;
         }
         Mesh m;
         std::size_t extracted = 0;
@@ -582,18 +625,35 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso) +
                          ", the accumulation's surface re-used");
         } else {
+            // The second read of the thin parts and their mesh are made while the grid is
+            // extracted, from the moment the grid's cells are released (their memory and the
+            // read's never add up): the two take about as long, and each leaves cores idle (the
+            // read waits on the input and the device, the extraction has serial steps). The
+            // extraction calls no observer, so the observer hears from one thread at a time.
+            RunReport read_report;       // before `thin_mesh`, whose end the unwinding waits for
+            std::future<Mesh> thin_mesh; // from std::async: its destructor waits for the read
+            const auto start_reading = [&] {
+                if (thin_read && pieces)
+                    thin_mesh = std::async(std::launch::async, [&] {
+                        const Refinement read = read_thin_parts(*thin_read, inputs, a.left_out, o, watch, read_report);
+                        return thin_parts_mesh(read, iso, r.iso_auto, spec);
+                    });
+            };
             // The sheet releases the grid's cells as soon as it no longer reads them.
-            m = o.surface == SurfaceKind::sheet ? extract_sheet(std::move(cells), iso)
-                                                : extract_closed_surface(cells, iso, o.placement);
-            if (refined && pieces) { // the cells near thin parts from the finer grid, the rest from this one
-                // A quarter of the iso: the same points per area in cells of half the edge; an
-                // automatic one rounded as automatic_iso rounds (not the finer grid's own median,
-                // which would follow how far around the thin parts its points were read).
-                const double fine_iso = r.iso_auto ? std::max(1.0, std::floor(iso / 4)) : iso / 4;
-                Mesh thin = extract_sheet(refined->fine, fine_iso, LinearParts::tubes);
-                keep_triangles_in_blocks(thin, spec, 0, refined->cells, true);
-                keep_triangles_in_blocks(m, spec, 0, refined->cells, false);
-                const SeamReport seam = append_joined(m, thin, spec, refined->cells);
+            if (o.surface == SurfaceKind::sheet) {
+                m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading);
+            } else {
+                start_reading();
+                m = extract_closed_surface(cells, iso, o.placement);
+            }
+            // The cells near thin parts from the finer grid, the rest from this one.
+            if (thin_mesh.valid() || (refined && pieces)) {
+                const bool read_now = thin_mesh.valid();
+                const Mesh thin = read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec);
+                if (read_now) r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
+                const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
+                keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
+                const SeamReport seam = append_joined(m, thin, spec, fine_cells);
                 watch.detail("seam           " + std::to_string(seam.joined) + " stretches joined on " +
                              std::to_string(seam.faces) + " cell faces where the two meshes meet");
             }
@@ -605,7 +665,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             removed = remove_small_pieces(m, o.min_piece);
             if (pieces && a.keeps_surface) {
                 auto surface = std::make_shared<const Accumulation::Surface>(Accumulation::Surface{
-                    iso, o.surface, o.placement, o.min_piece, refined != nullptr, extracted, removed, m});
+                    iso, o.surface, o.placement, o.min_piece, thin_refined, extracted, removed, m});
                 const std::lock_guard lock(a.surface_mutex);
                 a.surface = std::move(surface);
             }
@@ -740,13 +800,10 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     Accumulation a;
     RunReport r;
     accumulate_survey(inputs, o, true, watch, a, r);
-    std::optional<Refinement> refined;
-    if (refines_thin_parts(inputs, o, a.grid, r)) {
-        refined = refine_thin_parts(inputs, a.left_out, o, a.grid, watch, r);
-        r.read_accumulate += r.thin_read;
-    }
-    return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start),
-                     refined ? &*refined : nullptr);
+    std::optional<ThinReadPlan> thin_read;
+    if (refines_thin_parts(inputs, o, a.grid, r)) thin_read = plan_thin_read(o, a.grid, r);
+    return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start), nullptr,
+                     thin_read ? &*thin_read : nullptr);
 }
 
 AccumulatedInputs accumulate_inputs(const std::vector<std::string>& inputs, const BuildOptions& o,

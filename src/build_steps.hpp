@@ -122,18 +122,42 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
 bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, const CellGrid& grid,
                         RunReport& r);
 
-// Finds the thin parts of `grid` (grid/thin_parts.hpp) and reads the inputs again for the points
-// near them (without those the first read `left_out`); nothing when there are none. Sets
-// r.thin_cells and r.thin_read, or r.thin_unrefined.
+// The thin parts' second read, planned from the grid before its extraction releases the cells:
+// the cells meshed from the finer grid, the cells whose points are read again, the grid's frame.
+struct ThinReadPlan {
+    std::vector<std::uint64_t> mesh_cells; // Refinement::cells
+    std::vector<std::uint64_t> read_cells; // the same keys: the mesh cells and a cell more around them
+    GridSpec spec;                         // the grid's
+    std::array<AxisCells, 3> axes;         // the grid's cell starts in the survey's raw integers
+};
+
+// Finds the thin parts of `grid` (grid/thin_parts.hpp); nothing, and r.thin_unrefined says why,
+// when there are none or half the cell would not fit.
+std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid& grid, RunReport& r);
+
+// Reads the inputs again for the points near the thin parts (without those the first read
+// `left_out`) into the grid of half the cell. Sets r.thin_cells and r.thin_read.
+Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::string>& inputs,
+                           const std::vector<std::string>& left_out, const BuildOptions& o, BuildObserver& watch,
+                           RunReport& r);
+
+// The mesh of the thin parts at `iso` (the grid's; `iso_auto` when chosen from the grid): the
+// finer grid's sheet, with tubes along lines, in the refined cells of `grid` only.
+Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid);
+
+// plan_thin_read, then read_thin_parts.
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,
                                             const std::vector<std::string>& left_out, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r);
 
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
-// `r` holds the read's fields, `seconds_before` the time the read took.
+// `r` holds the read's fields, `seconds_before` the time the read took. The thin parts come
+// read already (`refined`), or are read while the grid is extracted (`thin_read`, from the
+// inputs but those `a` left out; first, under a memory limit), or not at all.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
-                      double seconds_before, const Refinement* refined = nullptr);
+                      double seconds_before, const Refinement* refined = nullptr,
+                      const ThinReadPlan* thin_read = nullptr);
 
 // For a plan's tile jobs and its merge (src/tile_plan.cpp): the plan's inputs; `options` with
 // the plan's read fields (grid, bounds, CRS); and open_survey of the inputs as planned, refusing

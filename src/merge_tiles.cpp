@@ -188,13 +188,10 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     report_grid(grid, survey, reader_warnings, true, o, seconds, watch, a, r);
     // Thin parts need the whole grid to be found, so the merge reads the points near them itself,
     // from every input, as one machine reads them a second time.
-    std::optional<Refinement> refined;
-    if (refines_thin_parts(paths, o, grid, r)) {
-        refined = refine_thin_parts(paths, {}, o, grid, watch, r);
-        r.read_accumulate += r.thin_read;
-    }
-    return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start),
-                     refined ? &*refined : nullptr);
+    std::optional<ThinReadPlan> thin_read;
+    if (refines_thin_parts(paths, o, grid, r)) thin_read = plan_thin_read(o, grid, r);
+    return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start), nullptr,
+                     thin_read ? &*thin_read : nullptr);
 }
 
 } // namespace lasmesh

@@ -268,6 +268,46 @@ TEST_CASE("refine_thin by default, end to end: refined in one call, from an accu
     CHECK(test::read_file(f.dir.file("merged.ply")) == refined);
 }
 
+TEST_CASE("refine_thin: read alongside the extraction or alone first (under a memory limit), the same bytes; a "
+          "second read that fails stops the run, nothing written") {
+    Fixture f;
+    BuildOptions o = f.options({"alongside.ply"});
+    o.refine_thin = ThinRefinement::always;
+    const RunReport alongside = build_mesh(f.input, o).report;
+    REQUIRE(alongside.thin_cells > 0);
+    CHECK(alongside.thin_read > 0);
+    BuildOptions limited = f.options({"first.ply"});
+    limited.refine_thin = ThinRefinement::always;
+    limited.max_memory = std::uint64_t{16} << 30; // any limit: the second read comes first then
+    const RunReport first = build_mesh(f.input, limited).report;
+    CHECK(first.thin_cells == alongside.thin_cells);
+    CHECK(first.read_accumulate >= first.thin_read);
+    CHECK(test::read_file(f.dir.file("first.ply")) == test::read_file(f.dir.file("alongside.ply")));
+
+    // The input cut short once the first read ends: the second read's error, from its thread,
+    // is the run's, and no output appears.
+    struct CutInput : BuildObserver {
+        std::string path;
+        void stage_ended(BuildStage stage, const RunReport&) override {
+            if (stage == BuildStage::read_accumulate) std::filesystem::resize_file(path, 4000);
+        }
+    };
+    const std::string cut = f.dir.file("cut.las");
+    std::filesystem::copy_file(f.input, cut);
+    CutInput watch;
+    watch.path = cut;
+    BuildOptions again = f.options({"cut.ply"});
+    again.refine_thin = ThinRefinement::always;
+    try {
+        build_mesh(cut, again, &watch);
+        FAIL("no error");
+    } catch (const Error& e) {
+        CHECK(e.kind() == ErrorKind::input);
+        CHECK(contains(e.what(), cut));
+    }
+    CHECK(!std::filesystem::exists(f.dir.file("cut.ply")));
+}
+
 TEST_CASE("accumulate_inputs with refine_thin: one call's bytes, the thin parts read again once an iso") {
     Fixture f;
     BuildOptions o = f.options({});

@@ -2,6 +2,8 @@
 // remove_unused_vertices, keep_triangles_in_blocks, append_mesh, connected_parts, turn_over.
 #include "mesh/mesh_edit.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -34,8 +36,9 @@ void keep_triangles_in_blocks(Mesh& mesh, const GridSpec& grid, int shift, const
     const double block_edge = std::ldexp(grid.cell_size, shift);
     std::array<std::uint64_t, 3> count{};
     for (int a = 0; a < 3; ++a) count[a] = (std::uint64_t{grid.dims[a]} + (1u << shift) - 1) >> shift;
-    std::size_t kept = 0;
-    for (const auto& t : mesh.triangles) {
+    std::vector<char> keep(mesh.triangles.size());
+    tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t i) {
+        const auto& t = mesh.triangles[i];
         std::array<std::uint64_t, 3> at{};
         for (int a = 0; a < 3; ++a) {
             const double c =
@@ -45,8 +48,11 @@ void keep_triangles_in_blocks(Mesh& mesh, const GridSpec& grid, int shift, const
                 std::clamp(std::floor(c / block_edge), 0.0, static_cast<double>(count[a] - 1)));
         }
         const std::uint64_t key = (at[2] * count[1] + at[1]) * count[0] + at[0];
-        if (std::binary_search(blocks.begin(), blocks.end(), key) == inside) mesh.triangles[kept++] = t;
-    }
+        keep[i] = std::binary_search(blocks.begin(), blocks.end(), key) == inside;
+    });
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < keep.size(); ++i)
+        if (keep[i]) mesh.triangles[kept++] = mesh.triangles[i];
     mesh.triangles.resize(kept);
     remove_unused_vertices(mesh);
 }

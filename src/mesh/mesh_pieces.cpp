@@ -4,6 +4,8 @@
 
 #include "lasmesh/error.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -54,7 +56,7 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
             const std::uint64_t a = t[k], b = t[(k + 1) % 3];
             edges.push_back(std::min(a, b) << 32 | std::max(a, b));
         }
-    std::sort(edges.begin(), edges.end());
+    tbb::parallel_sort(edges.begin(), edges.end());
     std::vector<std::uint32_t> border;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
@@ -64,7 +66,7 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
         i = j;
     }
     std::vector<std::uint64_t>().swap(edges);
-    std::sort(border.begin(), border.end());
+    tbb::parallel_sort(border.begin(), border.end());
     border.erase(std::unique(border.begin(), border.end()), border.end());
     // (cell key, vertex), sorted: the vertices of a cell are a run.
     const auto key = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -76,7 +78,7 @@ void join_touching_pieces(const Mesh& mesh, std::vector<std::uint32_t>& parent) 
     std::vector<std::pair<std::uint64_t, std::uint32_t>> filed;
     filed.reserve(border.size());
     for (const std::uint32_t v : border) filed.emplace_back(key(cell_of(v, 0), cell_of(v, 1), cell_of(v, 2)), v);
-    std::sort(filed.begin(), filed.end());
+    tbb::parallel_sort(filed.begin(), filed.end());
     for (const std::uint32_t v : border) {
         const std::int64_t x = cell_of(v, 0), y = cell_of(v, 1), z = cell_of(v, 2);
         for (std::int64_t dz = -1; dz <= 1; ++dz)

@@ -854,9 +854,11 @@ void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
 // table once the corners are sampled.
-Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned) {
+Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned,
+             const std::function<void()>& released) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
+    if (released) released();
     estimate_normals(planes);
     if (linear == LinearParts::tubes) estimate_tubes(planes);
     if (!planes.scatter.empty()) {
@@ -903,11 +905,11 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
 } // namespace
 
 Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear) {
-    return extract(grid, iso, linear, nullptr);
+    return extract(grid, iso, linear, nullptr, {});
 }
 
-Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear) {
-    return extract(grid, iso, linear, &grid);
+Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::function<void()>& released) {
+    return extract(grid, iso, linear, &grid, released);
 }
 
 } // namespace lasmesh

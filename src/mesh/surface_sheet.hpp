@@ -7,6 +7,8 @@
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/surface.hpp"
 
+#include <functional>
+
 namespace lasmesh {
 
 // The surface the points define, after Hoppe et al. 1992 ("Surface reconstruction from
@@ -45,7 +47,9 @@ enum class LinearParts { planes, tubes };
 Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes);
 // The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
 // geometry and index, its cells are empty afterwards): the grid's memory and the mesh's never
-// add up.
-Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts::planes);
+// add up. `released`, when given, is called then, on this thread: a caller may start work
+// that needs the memory (build_mesh starts the second read of the thin parts there).
+Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts::planes,
+                   const std::function<void()>& released = {});
 
 } // namespace lasmesh
