@@ -42,6 +42,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <malloc.h>
 #include <memory>
 #include <mutex>
 
@@ -651,6 +652,12 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 const bool read_now = thin_mesh.valid();
                 const Mesh thin = read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec);
                 if (read_now) r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
+#ifdef __GLIBC__
+                // The read's thread freed its grids into a malloc arena of its own, which glibc
+                // keeps: given back now, they do not stay resident beside the growing mesh (the
+                // merge of the 50M deck's 21 tiles peaked at 400 MB instead of 430).
+                if (read_now) malloc_trim(0);
+#endif
                 const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
                 keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
                 const SeamReport seam = append_joined(m, thin, spec, fine_cells);
