@@ -47,6 +47,9 @@
 #include <mutex>
 
 #include <sys/resource.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 namespace lasmesh {
@@ -482,6 +485,37 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
     return true;
 }
 
+namespace {
+
+// What a step run in another thread tells its observer, kept for the calling thread to pass on
+// (BuildObserver's calls come from the calling thread only). Its progress through the points
+// is not kept: it ran behind another stage.
+struct RecordedObserver : BuildObserver {
+    struct Told {
+        enum class Kind { started, ended, detail } kind;
+        BuildStage stage;
+        std::string text;
+        RunReport so_far;
+    };
+    std::vector<Told> told;
+    void stage_started(BuildStage stage, const std::string& what) override {
+        told.push_back({Told::Kind::started, stage, what, {}});
+    }
+    void stage_ended(BuildStage stage, const RunReport& so_far) override {
+        told.push_back({Told::Kind::ended, stage, {}, so_far});
+    }
+    void detail(const std::string& line) override { told.push_back({Told::Kind::detail, {}, line, {}}); }
+    void replay(BuildObserver& watch) const {
+        for (const Told& t : told) switch (t.kind) {
+            case Told::Kind::started: watch.stage_started(t.stage, t.text); break;
+            case Told::Kind::ended: watch.stage_ended(t.stage, t.so_far); break;
+            case Told::Kind::detail: watch.detail(t.text); break;
+            }
+    }
+};
+
+} // namespace
+
 // The second read's largest upload to the device when the options leave it open.
 constexpr std::uint64_t thin_read_slice_bytes = 4ull << 20;
 
@@ -583,9 +617,9 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     const auto mesh_start = std::chrono::steady_clock::now();
     BuildResult result;
     // Under a memory limit the second read comes first, alone: each step's check of the memory
-    // it will take counts on the others' being done.
+    // it will take counts on the others' being done. With one thread asked for, too.
     std::optional<Refinement> read_first;
-    if (thin_read && o.max_memory) {
+    if (thin_read && (o.max_memory || o.threads == 1)) {
         read_first = read_thin_parts(*thin_read, inputs, a.left_out, o, watch, r);
         r.read_accumulate += r.thin_read;
         refined = &*read_first, thin_read = nullptr;
@@ -626,32 +660,39 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso) +
                          ", the accumulation's surface re-used");
         } else {
-            // The second read of the thin parts and their mesh are made while the grid is
-            // extracted, from the moment the grid's cells are released (their memory and the
-            // read's never add up): the two take about as long, and each leaves cores idle (the
-            // read waits on the input and the device, the extraction has serial steps). The
-            // extraction calls no observer, so the observer hears from one thread at a time.
+            // The second read of the thin parts and their mesh are made in a thread of their own
+            // while the grid is extracted, from the moment the grid's cells are released (their
+            // memory and the read's never add up): the two take about as long, and each leaves
+            // cores idle (the read waits on the input and the device, the extraction has serial
+            // steps). The read tells a recorder, replayed to the observer here once it is joined:
+            // the observer hears only from the calling thread, in order.
             RunReport read_report;       // before `thin_mesh`, whose end the unwinding waits for
+            RecordedObserver read_told;  // the same
             std::future<Mesh> thin_mesh; // from std::async: its destructor waits for the read
             const auto start_reading = [&] {
                 if (thin_read && pieces)
                     thin_mesh = std::async(std::launch::async, [&] {
-                        const Refinement read = read_thin_parts(*thin_read, inputs, a.left_out, o, watch, read_report);
+                        const Refinement read =
+                            read_thin_parts(*thin_read, inputs, a.left_out, o, read_told, read_report);
                         return thin_parts_mesh(read, iso, r.iso_auto, spec);
                     });
             };
-            // The sheet releases the grid's cells as soon as it no longer reads them.
+            // The sheet releases the grid's cells as soon as it no longer reads them; the closed
+            // surface holds them to the end (and is never refined: check_mesh_options).
             if (o.surface == SurfaceKind::sheet) {
                 m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading);
             } else {
-                start_reading();
                 m = extract_closed_surface(cells, iso, o.placement);
+                start_reading();
             }
             // The cells near thin parts from the finer grid, the rest from this one.
             if (thin_mesh.valid() || (refined && pieces)) {
                 const bool read_now = thin_mesh.valid();
                 const Mesh thin = read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec);
-                if (read_now) r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
+                if (read_now) {
+                    r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
+                    read_told.replay(watch);
+                }
 #ifdef __GLIBC__
                 // The read's thread freed its grids into a malloc arena of its own, which glibc
                 // keeps: given back now, they do not stay resident beside the growing mesh (the

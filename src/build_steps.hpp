@@ -153,7 +153,7 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took. The thin parts come
 // read already (`refined`), or are read while the grid is extracted (`thin_read`, from the
-// inputs but those `a` left out; first, under a memory limit), or not at all.
+// inputs but those `a` left out; first, under a memory limit or with one thread), or not at all.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
                       double seconds_before, const Refinement* refined = nullptr,

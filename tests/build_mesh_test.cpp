@@ -11,10 +11,12 @@
 #include "grid/cell_sums.hpp"
 #include "test_support.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fcntl.h>
 #include <filesystem>
 #include <limits>
+#include <thread>
 #include <unistd.h>
 
 using namespace lasmesh;
@@ -273,9 +275,25 @@ TEST_CASE("refine_thin: read alongside the extraction or alone first (under a me
     Fixture f;
     BuildOptions o = f.options({"alongside.ply"});
     o.refine_thin = ThinRefinement::always;
-    const RunReport alongside = build_mesh(f.input, o).report;
+    // The observer hears the read, from the calling thread only.
+    struct Threads : BuildObserver {
+        std::vector<std::thread::id> callers;
+        std::vector<std::string> said;
+        void stage_started(BuildStage, const std::string& what) override {
+            callers.push_back(std::this_thread::get_id()), said.push_back(what);
+        }
+        void detail(const std::string& line) override {
+            callers.push_back(std::this_thread::get_id()), said.push_back(line);
+        }
+    } watch_threads;
+    const RunReport alongside = build_mesh(f.input, o, &watch_threads).report;
     REQUIRE(alongside.thin_cells > 0);
     CHECK(alongside.thin_read > 0);
+    CHECK(std::count(watch_threads.callers.begin(), watch_threads.callers.end(), std::this_thread::get_id()) ==
+          static_cast<std::ptrdiff_t>(watch_threads.callers.size()));
+    CHECK(std::count(watch_threads.said.begin(), watch_threads.said.end(), "reading the thin parts again") == 1);
+    CHECK(std::any_of(watch_threads.said.begin(), watch_threads.said.end(),
+                      [](const std::string& line) { return line.starts_with("thin parts "); }));
     BuildOptions limited = f.options({"first.ply"});
     limited.refine_thin = ThinRefinement::always;
     limited.max_memory = std::uint64_t{16} << 30; // any limit: the second read comes first then

@@ -136,8 +136,8 @@ struct RunReport {
     SimplifyReport simplify; // triangles before and after, the bound in file units, seconds
     // Thin parts refined: the cells meshed at half the cell (thin parts and the cells next to
     // them), and the seconds their points' second read took. That read runs while the grid is
-    // extracted (its seconds are inside `extract`), or alone before it under max_memory and when
-    // re-meshing an accumulation (then inside `read_accumulate`).
+    // extracted (its seconds are inside `extract`), or alone before it under max_memory, with one
+    // thread and when re-meshing an accumulation (then inside `read_accumulate`).
     std::uint64_t thin_cells = 0;
     double thin_read = 0;
     std::string thin_unrefined; // why no cell was refined ("no thin parts found"); empty with never
