@@ -42,7 +42,6 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
-#include <malloc.h>
 #include <memory>
 #include <mutex>
 
@@ -488,29 +487,19 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
 namespace {
 
 // What a step run in another thread tells its observer, kept for the calling thread to pass on
-// (BuildObserver's calls come from the calling thread only). Its progress through the points
-// is not kept: it ran behind another stage.
+// (BuildObserver's calls come from the calling thread only): the stages it starts and its detail
+// lines, which is all the second read tells. Its progress through the points is not kept: it
+// ran behind another stage.
 struct RecordedObserver : BuildObserver {
-    struct Told {
-        enum class Kind { started, ended, detail } kind;
-        BuildStage stage;
-        std::string text;
-        RunReport so_far;
-    };
-    std::vector<Told> told;
-    void stage_started(BuildStage stage, const std::string& what) override {
-        told.push_back({Told::Kind::started, stage, what, {}});
-    }
-    void stage_ended(BuildStage stage, const RunReport& so_far) override {
-        told.push_back({Told::Kind::ended, stage, {}, so_far});
-    }
-    void detail(const std::string& line) override { told.push_back({Told::Kind::detail, {}, line, {}}); }
+    std::vector<std::pair<std::optional<BuildStage>, std::string>> told; // a stage started, or a detail line
+    void stage_started(BuildStage stage, const std::string& what) override { told.emplace_back(stage, what); }
+    void detail(const std::string& line) override { told.emplace_back(std::nullopt, line); }
     void replay(BuildObserver& watch) const {
-        for (const Told& t : told) switch (t.kind) {
-            case Told::Kind::started: watch.stage_started(t.stage, t.text); break;
-            case Told::Kind::ended: watch.stage_ended(t.stage, t.so_far); break;
-            case Told::Kind::detail: watch.detail(t.text); break;
-            }
+        for (const auto& [stage, text] : told)
+            if (stage)
+                watch.stage_started(*stage, text);
+            else
+                watch.detail(text);
     }
 };
 
@@ -571,8 +560,8 @@ Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::stri
     for (std::uint32_t& d : fine.dims) d *= 2;
     accumulate.spec = fine;
     accumulate.memory_in_use = resident_bytes();
-    // Smaller slices than the first read's: this read runs while the grid is extracted, so its
-    // memory adds to the extraction's (4 MiB measured as fast as 16 on the deck).
+    // Smaller slices than the first read's: this read mostly runs while the grid is extracted,
+    // so its memory adds to the extraction's (4 MiB measured as fast as 16 on the deck).
     if (!o.slice_bytes) accumulate.slice_bytes = thin_read_slice_bytes;
     // Only the points of the cells near the thin parts reach the device (most points lie far
     // from any); the survey's frame has the raw integers the grid's cell starts are in.
@@ -692,13 +681,13 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 if (read_now) {
                     r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
                     read_told.replay(watch);
-                }
 #ifdef __GLIBC__
-                // The read's thread freed its grids into a malloc arena of its own, which glibc
-                // keeps: given back now, they do not stay resident beside the growing mesh (the
-                // merge of the 50M deck's 21 tiles peaked at 400 MB instead of 430).
-                if (read_now) malloc_trim(0);
+                    // The read's thread freed its grids into a malloc arena of its own, which
+                    // glibc keeps: given back now, they do not stay resident beside the growing
+                    // mesh (the merge of the 50M deck's 21 tiles peaked at 400 MB instead of 430).
+                    malloc_trim(0);
 #endif
+                }
                 const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
                 keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
                 const SeamReport seam = append_joined(m, thin, spec, fine_cells);
