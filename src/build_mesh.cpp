@@ -691,8 +691,9 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
                 keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
                 const SeamReport seam = append_joined(m, thin, spec, fine_cells);
-                watch.detail("seam           " + std::to_string(seam.joined) + " stretches joined on " +
-                             std::to_string(seam.faces) + " cell faces where the two meshes meet");
+                watch.detail("seam           " + four_digits(seam.open_after) + " of " + four_digits(seam.open_before) +
+                             " of border left open where the two meshes meet (" + std::to_string(seam.joined) +
+                             " stretches joined)");
             }
             cells = CellGrid{}; // not needed any more: the writers get its memory
             extracted = m.triangles.size();

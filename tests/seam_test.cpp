@@ -78,9 +78,11 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
     REQUIRE(!fine.triangles.empty());
     const auto on_seam = [](const std::array<float, 3>& p) { return p[0] == 6.0f; };
     const auto check_joined = [&](const Mesh& joined, const SeamReport& seam, std::size_t fine_triangles) {
-        // The 8 faces of the plane x = 6 the layer crosses, each joined.
+        // The 8 faces of the plane x = 6 the layer crosses, joined in one stretch: nothing left open.
         CHECK(seam.faces == 8);
-        CHECK(seam.joined == 8);
+        CHECK(seam.joined == 1);
+        CHECK(seam.open_before == doctest::Approx(16)); // both borders, 8 long
+        CHECK(seam.open_after == 0);
         // Every triangle kept; the coarse triangles on the seam split at the fine vertices.
         CHECK(joined.triangles.size() >= coarse.triangles.size() + fine_triangles + 8);
         const Edges e = edges_of(joined);
@@ -119,9 +121,9 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
         for (std::size_t v = coarse.positions.size(); v < joined.normals.size(); ++v) CHECK(joined.normals[v][2] > 0);
     }
     {
-        // A hole in the fine layer at the seam (its cube x 5.5-6, y 2.5-3 left out): the chain on
-        // the face y 2-3 ends inside the face, and is laid from its other end as far as it goes;
-        // one border edge is left on the seam, the coarse one from the laid vertex on.
+        // A hole in the fine layer at the seam (its cube x 5.5-6, y 2.5-3 left out): the fine
+        // border leaves the seam there, and is laid on either side of the hole; one border edge
+        // is left on the seam, the coarse one across the hole, half a cell long.
         Mesh holed = fine;
         std::erase_if(holed.triangles, [&](const std::array<std::uint32_t, 3>& t) {
             double x = 0, y = 0;
@@ -132,7 +134,8 @@ TEST_CASE("the seam: the fine layer joined to the coarse one on the cell faces b
         Mesh joined = coarse;
         const SeamReport seam = append_joined(joined, holed, coarse_spec, fine_cells);
         CHECK(seam.faces == 8);
-        CHECK(seam.joined == 8);
+        CHECK(seam.joined == 2);
+        CHECK(seam.open_after == doctest::Approx(0.5));
         const Edges e = edges_of(joined);
         CHECK(!e.facing_apart);
         std::size_t border_on_seam = 0;
@@ -159,7 +162,8 @@ TEST_CASE("the seam on the face between two bricks: joined as one inside a brick
     Mesh joined = l.coarse;
     const SeamReport seam = append_joined(joined, l.fine, l.coarse_spec, l.fine_cells);
     CHECK(seam.faces == 8);
-    CHECK(seam.joined == 8);
+    CHECK(seam.joined == 1);
+    CHECK(seam.open_after == 0);
     std::size_t on_plane = 0;
     for (const auto& [edge, uses] : edges_of(joined).uses)
         if (joined.positions[edge.first][0] == 8.0f && joined.positions[edge.second][0] == 8.0f) {
@@ -167,4 +171,38 @@ TEST_CASE("the seam on the face between two bricks: joined as one inside a brick
             CHECK(uses == 2);
         }
     CHECK(on_plane >= 16);
+}
+
+TEST_CASE("the seam across faces: borders on different cells' faces, half a cell apart at most, joined") {
+    // The coarse layer moved to z = 1.8 (its border on the faces of the cells z 1-2), the fine one
+    // to z = 2.1 (on the faces of the cells z 2-3): no face holds both borders, yet they run side
+    // by side, 0.3 apart, and are joined into one surface whose edges on x = 6 are each shared.
+    Layers l = layers_meeting_at(12, 6);
+    for (auto& p : l.coarse.positions) p[2] += 0.3f;
+    for (auto& p : l.fine.positions) p[2] += 0.35f;
+    Mesh joined = l.coarse;
+    const SeamReport seam = append_joined(joined, l.fine, l.coarse_spec, l.fine_cells);
+    CHECK(seam.faces == 0);
+    CHECK(seam.joined == 1);
+    CHECK(seam.open_before == doctest::Approx(16));
+    CHECK(seam.open_after == 0);
+    const Edges e = edges_of(joined);
+    CHECK(!e.facing_apart);
+    std::size_t on_plane = 0;
+    for (const auto& [edge, uses] : e.uses) {
+        CHECK(uses <= 2);
+        if (joined.positions[edge.first][0] == 6.0f && joined.positions[edge.second][0] == 6.0f) {
+            ++on_plane;
+            CHECK(uses == 2);
+        }
+    }
+    CHECK(on_plane >= 16);
+    for (const auto& p : joined.positions)
+        if (p[0] == 6.0f) CHECK(p[2] == doctest::Approx(1.8));
+    // Farther apart than half a cell (0.3 + 0.35 more), they are left as they were.
+    for (auto& p : l.fine.positions) p[2] += 0.35f;
+    Mesh apart = l.coarse;
+    const SeamReport none = append_joined(apart, l.fine, l.coarse_spec, l.fine_cells);
+    CHECK(none.joined == 0);
+    CHECK(none.open_after == doctest::Approx(none.open_before));
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// append_joined: the seam between the coarse mesh and the fine mesh of the thin parts, joined
-// on the cell faces where they meet (Shu, Zhou & Kankanhalli 1995's crack patching).
+// append_joined: the seam between the coarse mesh and the fine mesh of the thin parts, the fine
+// border laid onto the coarse one where they run side by side (Shu, Zhou & Kankanhalli 1995's
+// crack patching, across cell faces).
 #include "mesh/seam.hpp"
 
 #include "grid/cell_set.hpp"
@@ -154,18 +155,6 @@ std::vector<SeamEdge> seam_edges(const Mesh& m, const GridSpec& grid, const std:
     return seam;
 }
 
-// A fine chain laid onto a coarse segment P -> Q of coarse triangle `triangle`. The chain runs
-// from Q's cell edge towards P's: its end on Q's edge becomes Q, its end on P's edge (when it
-// reaches it) P, and its vertices in between go onto the segment. A chain that ends inside the
-// face (at a hole of the fine sheet) or on another cell edge is laid from the end that matches
-// as far as it follows the segment: there the seam is joined in part.
-struct Match {
-    std::uint32_t triangle, p, q;
-    std::uint32_t at_q = none, at_p = none; // the fine vertices that become Q and P, if any
-    std::vector<std::uint32_t> inner;       // the fine vertices laid onto the segment, from Q's end to P's
-    std::vector<V3> onto;                   // their places on it
-};
-
 // The chains of fine border edges on one face, each from a vertex no edge enters; empty when the
 // edges do not form simple chains (a vertex with two edges out or in, a loop).
 std::vector<std::vector<std::uint32_t>> chains_of(const std::vector<SeamEdge>& edges) {
@@ -215,78 +204,6 @@ void for_each_face(const std::vector<SeamEdge>& coarse_seam, const std::vector<S
     }
 }
 
-// The coarse segment a chain matches on its face, laid out, or nothing: both its ends on the
-// segment's cell edges (Q's first), or one of them, and then at least one vertex laid.
-std::optional<Match> match_chain(const Mesh& coarse, const Mesh& fine, const std::vector<SeamEdge>& segments,
-                                 const std::vector<std::uint32_t>& chain, double h) {
-    const LatticeEdge from = lattice_edge(fine, chain.front(), h), to = lattice_edge(fine, chain.back(), h);
-    if (from == to) return std::nullopt;
-    for (std::size_t i = 1; i + 1 < chain.size(); ++i)
-        if (lattice_edge(fine, chain[i], h).axis != 3) return std::nullopt;
-    // The segment whose Q lies on the chain's first cell edge, or whose P on its last.
-    const SeamEdge* found = nullptr;
-    bool at_q = false, at_p = false;
-    for (const SeamEdge& s : segments) {
-        const bool q = from.axis != 3 && lattice_edge(coarse, s.b, h) == from;
-        const bool p = to.axis != 3 && lattice_edge(coarse, s.a, h) == to;
-        if (!q && !p) continue;
-        if (found) return std::nullopt;
-        found = &s, at_q = q, at_p = p;
-    }
-    if (!found) return std::nullopt;
-    Match m{found->triangle, found->a, found->b, none, none, {}, {}};
-    const V3 p = position(coarse, m.p), q = position(coarse, m.q);
-    const V3 pq{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-    const double length2 = pq[0] * pq[0] + pq[1] * pq[1] + pq[2] * pq[2];
-    if (!(length2 > 0)) return std::nullopt;
-    // Where a vertex goes on the segment: its parameter from P (0) to Q (1), or nothing when it
-    // is too far from it (more than half a cell) or past its ends.
-    const auto laid = [&](std::uint32_t v) -> std::optional<std::pair<double, V3>> {
-        const V3 x = position(fine, v);
-        const double s = ((x[0] - p[0]) * pq[0] + (x[1] - p[1]) * pq[1] + (x[2] - p[2]) * pq[2]) / length2;
-        if (!(s > 1e-3 && s < 1 - 1e-3)) return std::nullopt;
-        const V3 onto{p[0] + s * pq[0], p[1] + s * pq[1], p[2] + s * pq[2]};
-        const V3 d{x[0] - onto[0], x[1] - onto[1], x[2] - onto[2]};
-        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > h * h / 4) return std::nullopt;
-        return std::pair{s, onto};
-    };
-    const std::size_t n = chain.size();
-    if (at_q && at_p) { // the whole chain, its parameters falling from Q to P
-        m.at_q = chain.front(), m.at_p = chain.back();
-        double last = 1;
-        for (std::size_t i = 1; i + 1 < n; ++i) {
-            const auto at = laid(chain[i]);
-            if (!at || !(at->first < last - 1e-3)) return std::nullopt;
-            last = at->first;
-            m.inner.push_back(chain[i]), m.onto.push_back(at->second);
-        }
-        return m;
-    }
-    // One end: from it, as long as the vertices follow the segment (the far end too when it lies
-    // inside the face, at a hole; on another cell edge it stays).
-    if (at_q) {
-        m.at_q = chain.front();
-        double last = 1;
-        for (std::size_t i = 1; i + (to.axis == 3 ? 0 : 1) < n; ++i) {
-            const auto at = laid(chain[i]);
-            if (!at || !(at->first < last - 1e-3)) break;
-            last = at->first;
-            m.inner.push_back(chain[i]), m.onto.push_back(at->second);
-        }
-    } else {
-        m.at_p = chain.back();
-        double last = 0;
-        for (std::size_t i = n - 1; i-- > (from.axis == 3 ? 0 : 1);) {
-            const auto at = laid(chain[i]);
-            if (!at || !(at->first > last + 1e-3)) break;
-            last = at->first;
-            m.inner.insert(m.inner.begin(), chain[i]), m.onto.insert(m.onto.begin(), at->second);
-        }
-    }
-    if (m.inner.empty()) return std::nullopt;
-    return m;
-}
-
 // Whether a chain and the coarse segments of its face run between the same two cell edges: +1
 // the opposite way round (both surfaces face the same side), -1 the same way, 0 neither.
 int agreement(const Mesh& coarse, const Mesh& fine, const std::vector<SeamEdge>& segments,
@@ -324,6 +241,209 @@ V3 normal_of(const std::array<V3, 3>& t) {
     return {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
 }
 
+double length_of(const Mesh& m, const std::vector<SeamEdge>& edges) {
+    double sum = 0;
+    for (const SeamEdge& e : edges) {
+        const V3 a = position(m, e.a), b = position(m, e.b);
+        sum += std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    }
+    return sum;
+}
+
+// One mesh's border along the seam: its seam edges end to end, across faces. Edge k runs from
+// vertices[k] to vertices[k + 1] as triangle triangles[k] winds. A border ends where a vertex
+// has other than one seam edge in and one out (or where the border leaves the seam); a loop
+// starts at its first edge in face order and ends on that edge's first vertex.
+struct Border {
+    std::vector<std::uint32_t> vertices;
+    std::vector<std::uint32_t> triangles;
+};
+
+std::vector<Border> borders_of(const std::vector<SeamEdge>& seam) {
+    std::vector<std::pair<std::uint32_t, std::size_t>> out, into; // (vertex, edge)
+    for (std::size_t i = 0; i < seam.size(); ++i) out.emplace_back(seam[i].a, i), into.emplace_back(seam[i].b, i);
+    std::sort(out.begin(), out.end());
+    std::sort(into.begin(), into.end());
+    const auto count = [&](const auto& list, std::uint32_t v) {
+        const auto lo = std::lower_bound(list.begin(), list.end(), std::pair{v, std::size_t{0}});
+        std::size_t n = 0;
+        for (auto it = lo; it != list.end() && it->first == v; ++it) ++n;
+        return std::pair{n, lo == list.end() ? seam.size() : lo->second};
+    };
+    // The edge that continues edge i, or seam.size().
+    const auto next = [&](std::size_t i) {
+        const auto [outs, edge] = count(out, seam[i].b);
+        return outs == 1 && count(into, seam[i].b).first == 1 ? edge : seam.size();
+    };
+    std::vector<Border> borders;
+    std::vector<char> used(seam.size(), 0);
+    const auto walk = [&](std::size_t i) {
+        Border b{{seam[i].a}, {}};
+        for (; i < seam.size() && !used[i]; i = next(i)) {
+            used[i] = 1;
+            b.vertices.push_back(seam[i].b), b.triangles.push_back(seam[i].triangle);
+        }
+        borders.push_back(std::move(b));
+    };
+    for (std::size_t i = 0; i < seam.size(); ++i)
+        if (count(out, seam[i].a).first != 1 || count(into, seam[i].a).first != 1) walk(i);
+    for (std::size_t i = 0; i < seam.size(); ++i)
+        if (!used[i]) walk(i); // loops
+    return borders;
+}
+
+// Where a fine vertex lies on the coarse borders: border `border`, at s = k + t on its edge k
+// (t from 0 at vertices[k] to 1 at vertices[k + 1]); `border` none when no coarse border edge
+// passes within half a cell.
+struct Place {
+    std::uint32_t border = none;
+    double s = 0;
+    V3 at{};
+};
+
+// The coarse borders' edges by the cell of their midpoint, to find those near a point.
+class NearEdges {
+  public:
+    NearEdges(const Mesh& coarse, const std::vector<Border>& borders, double h)
+        : coarse_(coarse), borders_(borders), h_(h) {
+        for (std::uint32_t b = 0; b < borders.size(); ++b)
+            for (std::uint32_t k = 0; k + 1 < borders[b].vertices.size(); ++k) {
+                const V3 p = position(coarse, borders[b].vertices[k]), q = position(coarse, borders[b].vertices[k + 1]);
+                edges_.push_back({cell_of({(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2}), b, k});
+            }
+        std::sort(edges_.begin(), edges_.end());
+    }
+
+    // The nearest coarse border edge within half a cell of `x` (the first in border order of
+    // those as near), and the nearest point on it.
+    Place nearest(const V3& x) const {
+        Place best;
+        double best_d2 = h_ * h_ / 4;
+        const Cell c = cell_of(x);
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    const Cell n{c[0] + dx, c[1] + dy, c[2] + dz};
+                    auto it = std::lower_bound(edges_.begin(), edges_.end(), Edge{n, 0, 0});
+                    for (; it != edges_.end() && it->cell == n; ++it) {
+                        const Border& b = borders_[it->border];
+                        const V3 p = position(coarse_, b.vertices[it->k]), q = position(coarse_, b.vertices[it->k + 1]);
+                        const V3 pq{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+                        const double l2 = pq[0] * pq[0] + pq[1] * pq[1] + pq[2] * pq[2];
+                        if (!(l2 > 0)) continue;
+                        const double t = std::clamp(
+                            ((x[0] - p[0]) * pq[0] + (x[1] - p[1]) * pq[1] + (x[2] - p[2]) * pq[2]) / l2, 0.0, 1.0);
+                        const V3 on{p[0] + t * pq[0], p[1] + t * pq[1], p[2] + t * pq[2]};
+                        const double d2 = (x[0] - on[0]) * (x[0] - on[0]) + (x[1] - on[1]) * (x[1] - on[1]) +
+                                          (x[2] - on[2]) * (x[2] - on[2]);
+                        if (d2 < best_d2 || (d2 == best_d2 && best.border != none &&
+                                             std::pair{it->border, it->k + t} < std::pair{best.border, best.s})) {
+                            best_d2 = d2;
+                            best = {it->border, it->k + t, on};
+                        }
+                    }
+                }
+        return best;
+    }
+
+  private:
+    using Cell = std::array<std::int64_t, 3>;
+    struct Edge {
+        Cell cell;
+        std::uint32_t border, k;
+        bool operator<(const Edge& o) const { return std::tie(cell, border, k) < std::tie(o.cell, o.border, o.k); }
+    };
+    Cell cell_of(const V3& x) const {
+        return {static_cast<std::int64_t>(std::floor(x[0] / h_)), static_cast<std::int64_t>(std::floor(x[1] / h_)),
+                static_cast<std::int64_t>(std::floor(x[2] / h_))};
+    }
+    const Mesh& coarse_;
+    const std::vector<Border>& borders_;
+    double h_;
+    std::vector<Edge> edges_;
+};
+
+// A stretch of a fine border laid onto a coarse one, the two running opposite ways (both faces
+// on one side). Each coarse vertex the stretch passes takes one of its fine vertices (welded:
+// the fine vertex becomes the coarse one); the others go onto the coarse edge they lie along,
+// where the coarse triangle is split at them. So every fine edge of the stretch is an edge of
+// the split coarse border, and the two meshes share it.
+struct Stretch {
+    std::uint32_t border;            // the coarse border
+    std::vector<std::uint32_t> fine; // the fine vertices, in the fine border's order
+    std::vector<std::uint32_t> weld; // per fine vertex: the coarse vertex's index in the border, or none
+    std::vector<double> s;           // per fine vertex not welded: where on the coarse border (falling)
+    std::vector<V3> at;              // and its place there
+};
+
+// The longest stretch from fine vertex `from` of `fine_border` (whose places are `places`) onto
+// the coarse border of its first place, or one of fewer than two vertices when none.
+Stretch lay(const Mesh& fine, const Mesh& coarse, const Border& fine_border, const std::vector<Place>& places,
+            std::size_t from, const Border& coarse_border, double h) {
+    constexpr double gap = 1e-3; // the least step between two places, in edges
+    const std::uint32_t b = places[from].border;
+    std::size_t to = from + 1; // one past the last vertex whose places fall along border b
+    while (to < places.size() && places[to].border == b && places[to].s < places[to - 1].s - gap) ++to;
+    Stretch st{b, {}, {}, {}, {}};
+    const std::size_t n = to - from;
+    std::vector<std::uint32_t> weld(n, none);
+    const auto s = [&](std::size_t j) { return places[from + j].s; };
+    const auto near = [&](std::size_t j, std::uint32_t i) {
+        const V3 x = position(fine, fine_border.vertices[from + j]), p = position(coarse, coarse_border.vertices[i]);
+        return (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]) <=
+               h * h / 4;
+    };
+    // The coarse vertices the stretch passes, or ends a quarter of an edge from, highest first;
+    // each welded to the nearer of the fine vertices either side of it (after the last welded).
+    const auto last_vertex = static_cast<std::int64_t>(coarse_border.vertices.size()) - 1;
+    const auto hi = std::min<std::int64_t>(last_vertex, static_cast<std::int64_t>(std::floor(s(0) + 0.25)));
+    const auto lo = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(s(n - 1) - 0.25)));
+    std::size_t kept = n;
+    std::int64_t welded_last = -1;
+    std::int64_t above = -1; // the last fine vertex at or above coarse vertex i
+    for (std::int64_t i = hi; i >= lo; --i) {
+        while (above + 1 < static_cast<std::int64_t>(n) &&
+               s(static_cast<std::size_t>(above + 1)) >= static_cast<double>(i))
+            ++above;
+        std::int64_t pick = -1;
+        double pick_off = 0;
+        for (const std::int64_t j : {above, above + 1}) {
+            if (j <= welded_last || j >= static_cast<std::int64_t>(n)) continue;
+            const double off = std::abs(s(static_cast<std::size_t>(j)) - static_cast<double>(i));
+            if (!near(static_cast<std::size_t>(j), static_cast<std::uint32_t>(i))) continue;
+            if (pick < 0 || off < pick_off) pick = j, pick_off = off;
+        }
+        if (pick < 0) { // the stretch ends above this coarse vertex
+            kept = static_cast<std::size_t>(std::max<std::int64_t>(above + 1, 0));
+            break;
+        }
+        weld[static_cast<std::size_t>(pick)] = static_cast<std::uint32_t>(i), welded_last = pick;
+    }
+    // The places in order: the welded at their vertices, the others strictly between.
+    double last = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < kept; ++j) {
+        const double at = weld[j] != none ? static_cast<double>(weld[j]) : s(j);
+        const bool on_vertex = weld[j] == none && std::abs(at - std::round(at)) < gap;
+        if (!(at < last - gap) || on_vertex) {
+            kept = j;
+            break;
+        }
+        last = at;
+    }
+    // The stretch, up to the first vertex out of that order.
+    for (std::size_t j = 0; j < kept; ++j) {
+        st.fine.push_back(fine_border.vertices[from + j]);
+        st.weld.push_back(weld[j]);
+        st.s.push_back(weld[j] != none ? static_cast<double>(weld[j]) : s(j));
+        st.at.push_back(weld[j] != none ? position(coarse, coarse_border.vertices[weld[j]]) : places[from + j].at);
+    }
+    if (st.fine.empty()) { // nothing laid from here: the next vertex starts again
+        st.fine.push_back(fine_border.vertices[from]);
+        st.weld.push_back(none), st.s.push_back(s(0)), st.at.push_back(places[from].at);
+    }
+    return st;
+}
+
 } // namespace
 
 SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
@@ -335,50 +455,63 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     const std::vector<SeamEdge> coarse_seam = seam_edges(coarse, grid, fine_cells, near);
     face_as_coarse(fine, coarse, coarse_seam, seam_edges(fine, grid, fine_cells, near), h);
     const std::vector<SeamEdge> fine_seam = seam_edges(fine, grid, fine_cells, near);
-    // Face by face: the fine chains matched to the coarse segments.
-    std::vector<Match> matches;
-    std::vector<SeamEdge> segments, pieces;
-    for_each_face(coarse_seam, fine_seam, segments, pieces, [&] {
-        ++report.faces;
-        for (const std::vector<std::uint32_t>& chain : chains_of(pieces))
-            if (auto m = match_chain(coarse, fine, segments, chain, h)) matches.push_back(std::move(*m));
-    });
-    // Each coarse triangle split once, each fine end on one coarse vertex and the other way round;
-    // then no fine triangle turned over by the moves. What fails is left open.
-    std::vector<char> kept(matches.size(), 1);
-    const auto drop_shared = [&](auto key_of) {
-        std::vector<std::tuple<std::uint32_t, std::uint32_t, std::size_t>> keys; // (key, partner, match)
-        for (std::size_t i = 0; i < matches.size(); ++i)
-            if (kept[i])
-                for (const auto& [key, partner] : key_of(matches[i])) keys.emplace_back(key, partner, i);
-        std::sort(keys.begin(), keys.end());
-        for (std::size_t i = 0; i < keys.size();) {
-            std::size_t j = i;
-            bool shared = false;
-            while (j < keys.size() && std::get<0>(keys[j]) == std::get<0>(keys[i]))
-                shared = shared || std::get<1>(keys[j]) != std::get<1>(keys[i]), ++j;
-            if (shared)
-                for (std::size_t k = i; k < j; ++k) kept[std::get<2>(keys[k])] = 0;
-            i = j;
-        }
-    };
-    using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    report.open_before = length_of(coarse, coarse_seam) + length_of(fine, fine_seam);
     {
-        // A coarse triangle is split once: by one chain, on one edge.
-        std::vector<std::pair<std::uint32_t, std::size_t>> split; // (triangle, match)
-        for (std::size_t i = 0; i < matches.size(); ++i) split.emplace_back(matches[i].triangle, i);
-        std::sort(split.begin(), split.end());
-        for (std::size_t i = 0; i + 1 < split.size(); ++i)
-            if (split[i].first == split[i + 1].first) kept[split[i].second] = kept[split[i + 1].second] = 0;
+        std::vector<SeamEdge> segments, pieces;
+        for_each_face(coarse_seam, fine_seam, segments, pieces, [&] { ++report.faces; });
     }
-    const auto welds = [](const Match& m, bool fine_first) {
-        Pairs pairs;
-        for (const auto& [f, c] : {std::pair{m.at_q, m.q}, std::pair{m.at_p, m.p}})
-            if (f != none) pairs.push_back(fine_first ? std::pair{f, c} : std::pair{c, f});
-        return pairs;
-    };
-    drop_shared([&](const Match& m) { return welds(m, true); });
-    drop_shared([&](const Match& m) { return welds(m, false); });
+    // Each fine border laid onto the coarse borders near it, stretch by stretch.
+    const std::vector<Border> coarse_borders = borders_of(coarse_seam);
+    const NearEdges near_edges(coarse, coarse_borders, h);
+    std::vector<Stretch> stretches;
+    for (const Border& f : borders_of(fine_seam)) {
+        std::vector<Place> places(f.vertices.size());
+        for (std::size_t j = 0; j < places.size(); ++j) places[j] = near_edges.nearest(position(fine, f.vertices[j]));
+        for (std::size_t j = 0; j < places.size();) {
+            if (places[j].border == none) {
+                ++j;
+                continue;
+            }
+            Stretch st = lay(fine, coarse, f, places, j, coarse_borders[places[j].border], h);
+            j += st.fine.size();
+            if (st.fine.size() >= 2) stretches.push_back(std::move(st));
+        }
+    }
+    // Each fine vertex in one stretch, each coarse vertex welded once, the stretches on a coarse
+    // border apart; then no fine triangle turned over by the moves. What fails stays open.
+    // Longest first: a stretch is kept when none kept before has one of its fine vertices, welds
+    // one of its coarse vertices or lies on the same coarse border across its span.
+    std::vector<char> kept(stretches.size(), 0);
+    {
+        std::vector<std::size_t> order(stretches.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+            return stretches[x].fine.size() > stretches[y].fine.size();
+        });
+        std::vector<char> fine_used(fine.positions.size(), 0), coarse_used(coarse.positions.size(), 0);
+        std::vector<std::vector<std::pair<double, double>>> spans(coarse_borders.size());
+        for (const std::size_t i : order) {
+            const Stretch& st = stretches[i];
+            const Border& b = coarse_borders[st.border];
+            const double low = st.s.back(), high = st.s.front();
+            bool free = std::none_of(spans[st.border].begin(), spans[st.border].end(),
+                                     [&](const auto& span) { return low <= span.second && span.first <= high; });
+            std::vector<std::uint32_t> fines = st.fine, coarses;
+            for (const std::uint32_t w : st.weld)
+                if (w != none) coarses.push_back(b.vertices[w]);
+            std::sort(fines.begin(), fines.end());
+            std::sort(coarses.begin(), coarses.end());
+            free = free && std::adjacent_find(fines.begin(), fines.end()) == fines.end() &&
+                   std::adjacent_find(coarses.begin(), coarses.end()) == coarses.end() &&
+                   std::none_of(fines.begin(), fines.end(), [&](std::uint32_t v) { return fine_used[v]; }) &&
+                   std::none_of(coarses.begin(), coarses.end(), [&](std::uint32_t v) { return coarse_used[v]; });
+            if (!free) continue;
+            kept[i] = 1;
+            for (const std::uint32_t v : fines) fine_used[v] = 1;
+            for (const std::uint32_t v : coarses) coarse_used[v] = 1;
+            spans[st.border].emplace_back(low, high);
+        }
+    }
     std::vector<std::vector<std::uint32_t>> fine_triangles_of(fine.positions.size());
     for (std::uint32_t t = 0; t < fine.triangles.size(); ++t)
         for (const std::uint32_t v : fine.triangles[t]) fine_triangles_of[v].push_back(t);
@@ -386,13 +519,10 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     std::vector<std::uint32_t> moved_by(fine.positions.size(), none);
     for (bool turned = true; turned;) {
         std::fill(moved_by.begin(), moved_by.end(), none);
-        for (std::uint32_t i = 0; i < matches.size(); ++i) {
-            if (!kept[i]) continue;
-            const Match& m = matches[i];
-            if (m.at_q != none) moved_to[m.at_q] = position(coarse, m.q), moved_by[m.at_q] = i;
-            if (m.at_p != none) moved_to[m.at_p] = position(coarse, m.p), moved_by[m.at_p] = i;
-            for (std::size_t k = 0; k < m.inner.size(); ++k) moved_to[m.inner[k]] = m.onto[k], moved_by[m.inner[k]] = i;
-        }
+        for (std::uint32_t i = 0; i < stretches.size(); ++i)
+            if (kept[i])
+                for (std::size_t j = 0; j < stretches[i].fine.size(); ++j)
+                    moved_to[stretches[i].fine[j]] = stretches[i].at[j], moved_by[stretches[i].fine[j]] = i;
         turned = false;
         for (std::uint32_t v = 0; v < fine.positions.size(); ++v) {
             if (moved_by[v] == none) continue;
@@ -408,48 +538,145 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
                 if (along > 0 &&
                     b[0] * b[0] + b[1] * b[1] + b[2] * b[2] > 1e-6 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]))
                     continue;
+                // Each stretch that moved a corner of it ends before that corner.
                 for (const std::uint32_t w : fine.triangles[t])
-                    if (moved_by[w] != none) kept[moved_by[w]] = 0;
+                    if (moved_by[w] != none) {
+                        Stretch& st = stretches[moved_by[w]];
+                        const auto at =
+                            static_cast<std::size_t>(std::find(st.fine.begin(), st.fine.end(), w) - st.fine.begin());
+                        st.fine.resize(at), st.weld.resize(at), st.s.resize(at), st.at.resize(at);
+                        if (st.fine.size() < 2) kept[moved_by[w]] = 0;
+                    }
                 turned = true;
             }
         }
     }
-    // The fine mesh after the coarse one, its matched ends on the coarse vertices.
+    // The fine mesh after the coarse one: its welded vertices are the coarse ones, its laid
+    // vertices on the coarse border, where the coarse edges are split at them. A laid vertex next
+    // to another stretch's end can give an edge the fine mesh has already (a fine triangle in the
+    // seam's face): the stretches at an edge with more than two triangles, or two facing apart,
+    // are left open, and the join made again without them.
     const auto first = static_cast<std::uint32_t>(coarse.positions.size());
-    std::vector<std::uint32_t> index(fine.positions.size());
-    for (std::uint32_t v = 0; v < fine.positions.size(); ++v) index[v] = first + v;
-    for (std::uint32_t i = 0; i < matches.size(); ++i) {
-        if (!kept[i]) continue;
-        const Match& m = matches[i];
-        if (m.at_q != none) index[m.at_q] = m.q;
-        if (m.at_p != none) index[m.at_p] = m.p;
-        for (std::size_t k = 0; k < m.inner.size(); ++k)
-            for (int a = 0; a < 3; ++a) fine.positions[m.inner[k]][a] = static_cast<float>(m.onto[k][a]);
+    const auto coarse_triangles = static_cast<std::uint32_t>(coarse.triangles.size());
+    std::vector<std::uint32_t> around_start(first + 1, 0), around; // the coarse triangles at each coarse vertex
+    for (const auto& t : coarse.triangles)
+        for (const std::uint32_t v : t) ++around_start[v + 1];
+    for (std::uint32_t v = 0; v < first; ++v) around_start[v + 1] += around_start[v];
+    around.resize(around_start[first]);
+    {
+        std::vector<std::uint32_t> at(around_start.begin(), around_start.end() - 1);
+        for (std::uint32_t t = 0; t < coarse_triangles; ++t)
+            for (const std::uint32_t v : coarse.triangles[t]) around[at[v]++] = t;
     }
     std::vector<std::array<std::uint32_t, 3>> triangles;
     triangles.swap(fine.triangles);
-    append_mesh(coarse, fine);
-    for (auto t : triangles) {
-        for (std::uint32_t& v : t) v = index[v];
-        coarse.triangles.push_back(t);
-    }
-    // Each matched coarse triangle (P, Q, R) becomes a fan from R over P, the laid vertices from
-    // P's end, and Q.
-    for (std::uint32_t i = 0; i < matches.size(); ++i) {
-        if (!kept[i]) continue;
-        const Match& m = matches[i];
-        const std::array<std::uint32_t, 3> t = coarse.triangles[m.triangle];
-        int e = 0;
-        while (!(t[e] == m.p && t[(e + 1) % 3] == m.q)) ++e;
-        const std::uint32_t r = t[(e + 2) % 3];
-        std::vector<std::uint32_t> along{m.p};
-        for (std::size_t k = m.inner.size(); k-- > 0;) along.push_back(index[m.inner[k]]);
-        along.push_back(m.q);
-        coarse.triangles[m.triangle] = {along[0], along[1], r};
-        for (std::size_t k = 1; k + 1 < along.size(); ++k) coarse.triangles.push_back({along[k], along[k + 1], r});
-        ++report.joined;
+    for (;;) {
+        std::vector<std::uint32_t> index(fine.positions.size()), owner(first + fine.positions.size(), none);
+        for (std::uint32_t v = 0; v < fine.positions.size(); ++v) index[v] = first + v;
+        std::vector<std::tuple<std::uint32_t, std::uint32_t, double, std::uint32_t>> splits; // (border, edge, t, fine)
+        for (std::uint32_t i = 0; i < stretches.size(); ++i) {
+            if (!kept[i]) continue;
+            const Stretch& st = stretches[i];
+            const Border& b = coarse_borders[st.border];
+            for (std::size_t j = 0; j < st.fine.size(); ++j) {
+                if (st.weld[j] != none) {
+                    index[st.fine[j]] = b.vertices[st.weld[j]];
+                    owner[b.vertices[st.weld[j]]] = i;
+                    continue;
+                }
+                owner[first + st.fine[j]] = i;
+                for (int a = 0; a < 3; ++a) fine.positions[st.fine[j]][a] = static_cast<float>(st.at[j][a]);
+                const auto k = std::min<std::uint32_t>(static_cast<std::uint32_t>(st.s[j]),
+                                                       static_cast<std::uint32_t>(b.triangles.size() - 1));
+                splits.emplace_back(st.border, k, st.s[j] - k, st.fine[j]);
+            }
+        }
+        std::sort(splits.begin(), splits.end());
+        append_mesh(coarse, fine);
+        for (auto t : triangles) {
+            for (std::uint32_t& v : t) v = index[v];
+            coarse.triangles.push_back(t);
+        }
+        // Each split coarse triangle (P, Q, R), P -> Q on the border, becomes a fan from R over
+        // P, the laid vertices from P's end, and Q. A triangle with two edges on the border is
+        // split on the second in the part of the fan that holds it: who holds each border edge
+        // is followed.
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> holder; // (edge a << 32 | b, triangle)
+        for (const SeamEdge& e : coarse_seam) holder.emplace_back(std::uint64_t{e.a} << 32 | e.b, e.triangle);
+        std::sort(holder.begin(), holder.end());
+        const auto held = [&](std::uint32_t a, std::uint32_t b) {
+            const std::uint64_t key = std::uint64_t{a} << 32 | b;
+            const auto it = std::lower_bound(holder.begin(), holder.end(), std::pair{key, std::uint32_t{0}});
+            return it != holder.end() && it->first == key ? &it->second : nullptr;
+        };
+        std::vector<std::pair<std::uint32_t, std::array<std::uint32_t, 3>>> split_from; // (triangle, as it was)
+        for (std::size_t i = 0; i < splits.size();) {
+            const auto [border, edge, t0, v0] = splits[i];
+            const std::uint32_t p = coarse_borders[border].vertices[edge],
+                                q = coarse_borders[border].vertices[edge + 1];
+            std::vector<std::uint32_t> along{p};
+            for (; i < splits.size() && std::get<0>(splits[i]) == border && std::get<1>(splits[i]) == edge; ++i)
+                along.push_back(index[std::get<3>(splits[i])]);
+            along.push_back(q);
+            std::uint32_t* t = held(p, q);
+            if (!t) continue;
+            const std::array<std::uint32_t, 3> was = coarse.triangles[*t];
+            int e = 0;
+            while (e < 3 && !(was[e] == p && was[(e + 1) % 3] == q)) ++e;
+            if (e == 3) continue;
+            if (*t < coarse_triangles) split_from.emplace_back(*t, was);
+            const std::uint32_t r = was[(e + 2) % 3];
+            coarse.triangles[*t] = {along[0], along[1], r};
+            for (std::size_t k = 1; k + 1 < along.size(); ++k) coarse.triangles.push_back({along[k], along[k + 1], r});
+            if (std::uint32_t* next = held(q, r)) *next = static_cast<std::uint32_t>(coarse.triangles.size() - 1);
+        }
+        // The edges at the joined vertices: each between two triangles at most, facing one way.
+        std::vector<std::uint32_t> local;
+        for (std::uint32_t v = 0; v < first; ++v)
+            if (owner[v] != none)
+                local.insert(local.end(), around.begin() + around_start[v], around.begin() + around_start[v + 1]);
+        for (std::uint32_t v = 0; v < fine.positions.size(); ++v)
+            if (owner[first + v] != none)
+                for (const std::uint32_t t : fine_triangles_of[v]) local.push_back(coarse_triangles + t);
+        for (const auto& [t, was] : split_from) local.push_back(t);
+        for (auto t = static_cast<std::uint32_t>(coarse_triangles + triangles.size()); t < coarse.triangles.size(); ++t)
+            local.push_back(t);
+        std::sort(local.begin(), local.end());
+        local.erase(std::unique(local.begin(), local.end()), local.end());
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> edges; // (low << 32 | high, 1 when low -> high)
+        for (const std::uint32_t t : local)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t a = coarse.triangles[t][k], b = coarse.triangles[t][(k + 1) % 3];
+                if (owner[a] != none || owner[b] != none)
+                    edges.emplace_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), a < b);
+            }
+        std::sort(edges.begin(), edges.end());
+        bool clash = false;
+        for (std::size_t i = 0; i < edges.size();) {
+            std::size_t j = i;
+            while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+            if (j - i > 2 || (j - i == 2 && edges[i].second == edges[i + 1].second)) {
+                clash = true;
+                for (const auto v :
+                     {static_cast<std::uint32_t>(edges[i].first >> 32), static_cast<std::uint32_t>(edges[i].first)})
+                    if (owner[v] != none) kept[owner[v]] = 0;
+            }
+            i = j;
+        }
+        if (!clash) {
+            report.joined = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1));
+            break;
+        }
+        // Undone, to be made again.
+        coarse.positions.resize(first);
+        if (!coarse.colors.empty()) coarse.colors.resize(first);
+        if (!coarse.normals.empty()) coarse.normals.resize(first);
+        coarse.triangles.resize(coarse_triangles);
+        for (const auto& [t, was] : split_from) coarse.triangles[t] = was;
+        fine.positions = thin.positions;
     }
     remove_unused_vertices(coarse);
+    report.open_after = length_of(coarse, seam_edges(coarse, grid, fine_cells, near));
     return report;
 }
 
