@@ -320,9 +320,11 @@ class NearEdges {
         Place best;
         double best_d2 = h_ * h_ / 4;
         const Cell c = cell_of(x);
-        for (std::int64_t dz = -1; dz <= 1; ++dz)
-            for (std::int64_t dy = -1; dy <= 1; ++dy)
-                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+        // An edge lies in a cell face (at most a face's diagonal long), so one within half a cell
+        // has its midpoint within 1.21 cells: two cells either way.
+        for (std::int64_t dz = -2; dz <= 2; ++dz)
+            for (std::int64_t dy = -2; dy <= 2; ++dy)
+                for (std::int64_t dx = -2; dx <= 2; ++dx) {
                     const Cell n{c[0] + dx, c[1] + dy, c[2] + dz};
                     auto it = std::lower_bound(edges_.begin(), edges_.end(), Edge{n, 0, 0});
                     for (; it != edges_.end() && it->cell == n; ++it) {
@@ -336,8 +338,8 @@ class NearEdges {
                         const V3 on{p[0] + t * pq[0], p[1] + t * pq[1], p[2] + t * pq[2]};
                         const double d2 = (x[0] - on[0]) * (x[0] - on[0]) + (x[1] - on[1]) * (x[1] - on[1]) +
                                           (x[2] - on[2]) * (x[2] - on[2]);
-                        if (d2 < best_d2 || (d2 == best_d2 && best.border != none &&
-                                             std::pair{it->border, it->k + t} < std::pair{best.border, best.s})) {
+                        if (d2 < best_d2 ||
+                            (d2 == best_d2 && std::pair{it->border, it->k + t} < std::pair{best.border, best.s})) {
                             best_d2 = d2;
                             best = {it->border, it->k + t, on};
                         }
@@ -558,16 +560,6 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     // are left open, and the join made again without them.
     const auto first = static_cast<std::uint32_t>(coarse.positions.size());
     const auto coarse_triangles = static_cast<std::uint32_t>(coarse.triangles.size());
-    std::vector<std::uint32_t> around_start(first + 1, 0), around; // the coarse triangles at each coarse vertex
-    for (const auto& t : coarse.triangles)
-        for (const std::uint32_t v : t) ++around_start[v + 1];
-    for (std::uint32_t v = 0; v < first; ++v) around_start[v + 1] += around_start[v];
-    around.resize(around_start[first]);
-    {
-        std::vector<std::uint32_t> at(around_start.begin(), around_start.end() - 1);
-        for (std::uint32_t t = 0; t < coarse_triangles; ++t)
-            for (const std::uint32_t v : coarse.triangles[t]) around[at[v]++] = t;
-    }
     std::vector<std::array<std::uint32_t, 3>> triangles;
     triangles.swap(fine.triangles);
     for (;;) {
@@ -632,9 +624,10 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         }
         // The edges at the joined vertices: each between two triangles at most, facing one way.
         std::vector<std::uint32_t> local;
-        for (std::uint32_t v = 0; v < first; ++v)
-            if (owner[v] != none)
-                local.insert(local.end(), around.begin() + around_start[v], around.begin() + around_start[v + 1]);
+        for (std::uint32_t t = 0; t < coarse_triangles; ++t)
+            if (owner[coarse.triangles[t][0]] != none || owner[coarse.triangles[t][1]] != none ||
+                owner[coarse.triangles[t][2]] != none)
+                local.push_back(t);
         for (std::uint32_t v = 0; v < fine.positions.size(); ++v)
             if (owner[first + v] != none)
                 for (const std::uint32_t t : fine_triangles_of[v]) local.push_back(coarse_triangles + t);
