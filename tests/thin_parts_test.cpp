@@ -18,6 +18,7 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <tuple>
 
 using namespace lasmesh;
 
@@ -206,4 +207,40 @@ TEST_CASE("thin cells on the deck: the railings', not the deck's, a container's 
         return cells.find(std::int64_t(key % d), std::int64_t(key / d % e), std::int64_t(key / d / e)) != nullptr;
     });
     CHECK(occupied < static_cast<std::ptrdiff_t>(cells.occupied_cells() / 10));
+}
+
+TEST_CASE("thin cells: a rail's junction with a post between them, a plate the rail ends on not") {
+    // Cells of 1, 32 x 12 x 12, 8 points each at its centre: a rail along x at y = 5, z = 8 (x
+    // 0-19), a post under it at x = 10 (z 2-7), and a plate at z = 8 the rail runs into (x 20-29,
+    // y 0-11). The rail's and the post's cells lie along lines; where they meet, and at the post's
+    // top, the cells around are no line, yet thin cells lie on opposite sides of them.
+    GridSpec spec;
+    spec.dims = {32, 12, 12};
+    std::vector<std::uint64_t> count(spec.cell_count(), 0);
+    const auto set = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+        count[(z * spec.dims[1] + y) * spec.dims[0] + x] = 8;
+    };
+    for (std::uint64_t x = 0; x < 20; ++x) set(x, 5, 8);
+    for (std::uint64_t z = 2; z < 8; ++z) set(10, 5, z);
+    for (std::uint64_t x = 20; x < 30; ++x)
+        for (std::uint64_t y = 0; y < 12; ++y) set(x, y, 8);
+    // And a small plate beside the rail, two cells off: thin cells around it, on one side only.
+    for (std::uint64_t x = 3; x < 7; ++x)
+        for (std::uint64_t y = 7; y < 9; ++y) set(x, y, 8);
+    const std::vector<std::array<std::int64_t, 3>> thin = thin_cells(test::grid_from_counts(spec, count), 1);
+    REQUIRE(std::is_sorted(thin.begin(), thin.end(), [](const auto& a, const auto& b) {
+        return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]);
+    }));
+    const auto has = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+        return std::find(thin.begin(), thin.end(), std::array<std::int64_t, 3>{x, y, z}) != thin.end();
+    };
+    for (std::int64_t x = 1; x < 18; ++x) CHECK(has(x, 5, 8)); // the rail, its junction included
+    for (std::int64_t z = 3; z < 8; ++z) CHECK(has(10, 5, z)); // the post, up to the junction
+    // The plate: neither its middle nor its edge where the rail ends (thin cells on one side only).
+    CHECK(!has(25, 5, 8));
+    CHECK(!has(20, 5, 8));
+    CHECK(!has(21, 5, 8));
+    CHECK(!has(20, 4, 8));
+    for (const auto& c : thin) CHECK(c[0] < 21);
+    for (std::int64_t x = 3; x < 7; ++x) CHECK(!has(x, 7, 8));
 }

@@ -82,8 +82,44 @@ std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double
     });
     std::vector<std::array<std::int64_t, 3>> thin;
     for (const auto& cells : per_brick) thin.insert(thin.end(), cells.begin(), cells.end());
-    std::sort(thin.begin(), thin.end(),
-              [](const auto& a, const auto& b) { return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]); });
+    const auto z_y_x = [](const auto& a, const auto& b) {
+        return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]);
+    };
+    std::sort(thin.begin(), thin.end(), z_y_x);
+    // The cells between thin cells (a junction, a gap along a rail): a surface cell with thin
+    // cells on opposite sides of it within two cells, their offsets at more than a right angle.
+    // Left coarse, such a cell's sheet meets the fine tubes on both sides with borders that
+    // cannot be joined (a fin against a ring), and a crack runs round each.
+    const auto is_thin_cell = [&](const std::array<std::int64_t, 3>& c) {
+        return std::binary_search(thin.begin(), thin.end(), c, z_y_x);
+    };
+    std::vector<std::array<std::int64_t, 3>> near_thin;
+    for (const auto& t : thin)
+        for (std::int64_t dz = -2; dz <= 2; ++dz)
+            for (std::int64_t dy = -2; dy <= 2; ++dy)
+                for (std::int64_t dx = -2; dx <= 2; ++dx) {
+                    const std::array<std::int64_t, 3> c{t[0] + dx, t[1] + dy, t[2] + dz};
+                    if (surface(c[0], c[1], c[2]) && !is_thin_cell(c)) near_thin.push_back(c);
+                }
+    std::sort(near_thin.begin(), near_thin.end(), z_y_x);
+    near_thin.erase(std::unique(near_thin.begin(), near_thin.end()), near_thin.end());
+    std::vector<std::array<std::int64_t, 3>> between;
+    for (const auto& c : near_thin) {
+        std::array<std::array<std::int64_t, 3>, 125> offsets;
+        std::size_t n = 0;
+        for (std::int64_t dz = -2; dz <= 2; ++dz)
+            for (std::int64_t dy = -2; dy <= 2; ++dy)
+                for (std::int64_t dx = -2; dx <= 2; ++dx)
+                    if (is_thin_cell({c[0] + dx, c[1] + dy, c[2] + dz})) offsets[n++] = {dx, dy, dz};
+        bool opposite = false;
+        for (std::size_t i = 0; i < n && !opposite; ++i)
+            for (std::size_t j = i + 1; j < n && !opposite; ++j)
+                opposite =
+                    offsets[i][0] * offsets[j][0] + offsets[i][1] * offsets[j][1] + offsets[i][2] * offsets[j][2] < 0;
+        if (opposite) between.push_back(c);
+    }
+    thin.insert(thin.end(), between.begin(), between.end());
+    std::sort(thin.begin(), thin.end(), z_y_x);
     return thin;
 }
 

@@ -33,7 +33,9 @@ constexpr std::int64_t thin_mesh_reach = 1;
 // points (and its neighbours theirs).
 constexpr std::int64_t thin_read_reach = 2;
 
-// The thin surface cells (count above `iso`) of `grid`, z slowest then y then x.
+// The thin surface cells (count above `iso`) of `grid`, and the surface cells between them (thin
+// cells on opposite sides within two cells: a rail's junction with a post, a gap along a rail),
+// z slowest then y then x.
 std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double iso);
 
 // The keys ((z * count[1] + y) * count[0] + x, ascending) of the blocks of 2^shift cells an edge
