@@ -206,3 +206,46 @@ TEST_CASE("the seam across faces: borders on different cells' faces, half a cell
     CHECK(none.joined == 0);
     CHECK(none.open_after == doctest::Approx(none.open_before));
 }
+
+TEST_CASE("the seam round a corner: coarse triangles with border edges on two faces, split on both") {
+    // The coarse layer keeps one quadrant round the point x = 6, y = 4 (of 12 x 8 x 4 cells), the
+    // fine one the rest; the quadrant's corner cube has border edges on the planes x = 6 and
+    // y = 4, and in two of the four quadrants one of its triangles has both.
+    for (const auto& [low_x, low_y] : {std::pair{false, false}, {true, false}, {false, true}, {true, true}}) {
+        CAPTURE(low_x);
+        CAPTURE(low_y);
+        Layers l;
+        l.coarse_spec.dims = {12, 8, 4};
+        GridSpec fine_spec = l.coarse_spec;
+        fine_spec.cell_size = 0.5, fine_spec.dims = {24, 16, 8};
+        const auto coarse_cell = [&](std::uint64_t x, std::uint64_t y) { return (x < 6) == low_x && (y < 4) == low_y; };
+        for (std::uint64_t z = 0; z < 4; ++z)
+            for (std::uint64_t y = 0; y < 8; ++y)
+                for (std::uint64_t x = 0; x < 12; ++x)
+                    if (!coarse_cell(x, y)) l.fine_cells.push_back((z * 8 + y) * 12 + x);
+        l.coarse = extract_sheet(layer_grid(l.coarse_spec, 1), 1);
+        l.fine = extract_sheet(layer_grid(fine_spec, 3), 1);
+        keep_triangles_in_blocks(l.coarse, l.coarse_spec, 0, l.fine_cells, false);
+        keep_triangles_in_blocks(l.fine, l.coarse_spec, 0, l.fine_cells, true);
+        REQUIRE(!l.coarse.triangles.empty());
+        Mesh joined = l.coarse;
+        const SeamReport seam = append_joined(joined, l.fine, l.coarse_spec, l.fine_cells);
+        CHECK(seam.joined >= 1);
+        CHECK(seam.open_before > 0);
+        CHECK(seam.open_after < 0.1 * seam.open_before);
+        const Edges e = edges_of(joined);
+        CHECK(!e.facing_apart);
+        const auto on_seam = [&](const std::array<float, 3>& p) {
+            const bool x_side = low_x ? p[0] <= 6.0f : p[0] >= 6.0f, y_side = low_y ? p[1] <= 4.0f : p[1] >= 4.0f;
+            return (p[0] == 6.0f && y_side) || (p[1] == 4.0f && x_side);
+        };
+        std::size_t on_planes = 0, open = 0;
+        for (const auto& [edge, uses] : e.uses) {
+            CHECK(uses <= 2);
+            if (on_seam(joined.positions[edge.first]) && on_seam(joined.positions[edge.second]))
+                ++on_planes, open += uses == 1;
+        }
+        CHECK(on_planes >= 16);
+        CHECK(open <= 2); // at most the corner's own edges left
+    }
+}

@@ -517,42 +517,6 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     std::vector<std::vector<std::uint32_t>> fine_triangles_of(fine.positions.size());
     for (std::uint32_t t = 0; t < fine.triangles.size(); ++t)
         for (const std::uint32_t v : fine.triangles[t]) fine_triangles_of[v].push_back(t);
-    std::vector<V3> moved_to(fine.positions.size());
-    std::vector<std::uint32_t> moved_by(fine.positions.size(), none);
-    for (bool turned = true; turned;) {
-        std::fill(moved_by.begin(), moved_by.end(), none);
-        for (std::uint32_t i = 0; i < stretches.size(); ++i)
-            if (kept[i])
-                for (std::size_t j = 0; j < stretches[i].fine.size(); ++j)
-                    moved_to[stretches[i].fine[j]] = stretches[i].at[j], moved_by[stretches[i].fine[j]] = i;
-        turned = false;
-        for (std::uint32_t v = 0; v < fine.positions.size(); ++v) {
-            if (moved_by[v] == none) continue;
-            for (const std::uint32_t t : fine_triangles_of[v]) {
-                std::array<V3, 3> was{}, now{};
-                for (int k = 0; k < 3; ++k) {
-                    const std::uint32_t w = fine.triangles[t][k];
-                    was[k] = now[k] = position(fine, w);
-                    if (moved_by[w] != none) now[k] = moved_to[w];
-                }
-                const V3 a = normal_of(was), b = normal_of(now);
-                const double along = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-                if (along > 0 &&
-                    b[0] * b[0] + b[1] * b[1] + b[2] * b[2] > 1e-6 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]))
-                    continue;
-                // Each stretch that moved a corner of it ends before that corner.
-                for (const std::uint32_t w : fine.triangles[t])
-                    if (moved_by[w] != none) {
-                        Stretch& st = stretches[moved_by[w]];
-                        const auto at =
-                            static_cast<std::size_t>(std::find(st.fine.begin(), st.fine.end(), w) - st.fine.begin());
-                        st.fine.resize(at), st.weld.resize(at), st.s.resize(at), st.at.resize(at);
-                        if (st.fine.size() < 2) kept[moved_by[w]] = 0;
-                    }
-                turned = true;
-            }
-        }
-    }
     // The fine mesh after the coarse one: its welded vertices are the coarse ones, its laid
     // vertices on the coarse border, where the coarse edges are split at them. A laid vertex next
     // to another stretch's end can give an edge the fine mesh has already (a fine triangle in the
@@ -562,7 +526,45 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
     const auto coarse_triangles = static_cast<std::uint32_t>(coarse.triangles.size());
     std::vector<std::array<std::uint32_t, 3>> triangles;
     triangles.swap(fine.triangles);
+    std::vector<V3> moved_to(fine.positions.size());
+    std::vector<std::uint32_t> moved_by(fine.positions.size(), none);
     for (;;) {
+        // No fine triangle turned over by the moves of the stretches kept (again after a clash
+        // left some out).
+        for (bool turned = true; turned;) {
+            std::fill(moved_by.begin(), moved_by.end(), none);
+            for (std::uint32_t i = 0; i < stretches.size(); ++i)
+                if (kept[i])
+                    for (std::size_t j = 0; j < stretches[i].fine.size(); ++j)
+                        moved_to[stretches[i].fine[j]] = stretches[i].at[j], moved_by[stretches[i].fine[j]] = i;
+            turned = false;
+            for (std::uint32_t v = 0; v < fine.positions.size(); ++v) {
+                if (moved_by[v] == none) continue;
+                for (const std::uint32_t t : fine_triangles_of[v]) {
+                    std::array<V3, 3> was{}, now{};
+                    for (int k = 0; k < 3; ++k) {
+                        const std::uint32_t w = triangles[t][k];
+                        was[k] = now[k] = position(fine, w);
+                        if (moved_by[w] != none) now[k] = moved_to[w];
+                    }
+                    const V3 a = normal_of(was), b = normal_of(now);
+                    const double along = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+                    if (along > 0 &&
+                        b[0] * b[0] + b[1] * b[1] + b[2] * b[2] > 1e-6 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]))
+                        continue;
+                    // Each stretch that moved a corner of it ends before that corner.
+                    for (const std::uint32_t w : triangles[t])
+                        if (moved_by[w] != none) {
+                            Stretch& st = stretches[moved_by[w]];
+                            const auto at = static_cast<std::size_t>(std::find(st.fine.begin(), st.fine.end(), w) -
+                                                                     st.fine.begin());
+                            st.fine.resize(at), st.weld.resize(at), st.s.resize(at), st.at.resize(at);
+                            if (st.fine.size() < 2) kept[moved_by[w]] = 0;
+                        }
+                    turned = true;
+                }
+            }
+        }
         std::vector<std::uint32_t> index(fine.positions.size()), owner(first + fine.positions.size(), none);
         for (std::uint32_t v = 0; v < fine.positions.size(); ++v) index[v] = first + v;
         std::vector<std::tuple<std::uint32_t, std::uint32_t, double, std::uint32_t>> splits; // (border, edge, t, fine)
@@ -628,9 +630,10 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
             if (owner[coarse.triangles[t][0]] != none || owner[coarse.triangles[t][1]] != none ||
                 owner[coarse.triangles[t][2]] != none)
                 local.push_back(t);
-        for (std::uint32_t v = 0; v < fine.positions.size(); ++v)
-            if (owner[first + v] != none)
-                for (const std::uint32_t t : fine_triangles_of[v]) local.push_back(coarse_triangles + t);
+        for (std::uint32_t i = 0; i < stretches.size(); ++i) // welded corners too
+            if (kept[i])
+                for (const std::uint32_t v : stretches[i].fine)
+                    for (const std::uint32_t t : fine_triangles_of[v]) local.push_back(coarse_triangles + t);
         for (const auto& [t, was] : split_from) local.push_back(t);
         for (auto t = static_cast<std::uint32_t>(coarse_triangles + triangles.size()); t < coarse.triangles.size(); ++t)
             local.push_back(t);
@@ -658,6 +661,24 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         }
         if (!clash) {
             report.joined = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1));
+            // A fine border edge from a moved vertex to one that stayed, still open, can lie
+            // across two planes of the seam (at a corner of the refined cells): seam_edges below
+            // would not see it, so it is counted here.
+            for (const SeamEdge& e : fine_seam) {
+                const std::uint32_t a = index[e.a], b = index[e.b];
+                if (owner[a] == none && owner[b] == none) continue;
+                const std::uint64_t key = std::uint64_t{std::min(a, b)} << 32 | std::max(a, b);
+                const auto [lo, hi] = std::equal_range(edges.begin(), edges.end(), std::pair{key, std::uint32_t{0}},
+                                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+                if (hi - lo != 1) continue;
+                int planes = 0;
+                for (int x = 0; x < 3; ++x) {
+                    std::int64_t ka = 0, kb = 0;
+                    planes +=
+                        on_plane(coarse.positions[a][x], h, ka) && on_plane(coarse.positions[b][x], h, kb) && ka == kb;
+                }
+                if (planes != 1) report.open_after += length_of(coarse, {SeamEdge{e.face, a, b, e.triangle}});
+            }
             break;
         }
         // Undone, to be made again.
@@ -665,11 +686,12 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
         if (!coarse.colors.empty()) coarse.colors.resize(first);
         if (!coarse.normals.empty()) coarse.normals.resize(first);
         coarse.triangles.resize(coarse_triangles);
-        for (const auto& [t, was] : split_from) coarse.triangles[t] = was;
+        // In reverse: a triangle split twice (on two border edges) was recorded twice, first as it was.
+        for (auto it = split_from.rbegin(); it != split_from.rend(); ++it) coarse.triangles[it->first] = it->second;
         fine.positions = thin.positions;
     }
     remove_unused_vertices(coarse);
-    report.open_after = length_of(coarse, seam_edges(coarse, grid, fine_cells, near));
+    report.open_after += length_of(coarse, seam_edges(coarse, grid, fine_cells, near));
     return report;
 }
 
