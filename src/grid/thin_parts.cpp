@@ -93,18 +93,13 @@ std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double
     const auto is_thin_cell = [&](const std::array<std::int64_t, 3>& c) {
         return std::binary_search(thin.begin(), thin.end(), c, z_y_x);
     };
-    std::vector<std::array<std::int64_t, 3>> near_thin;
-    for (const auto& t : thin)
-        for (std::int64_t dz = -2; dz <= 2; ++dz)
-            for (std::int64_t dy = -2; dy <= 2; ++dy)
-                for (std::int64_t dx = -2; dx <= 2; ++dx) {
-                    const std::array<std::int64_t, 3> c{t[0] + dx, t[1] + dy, t[2] + dz};
-                    if (surface(c[0], c[1], c[2]) && !is_thin_cell(c)) near_thin.push_back(c);
-                }
-    std::sort(near_thin.begin(), near_thin.end(), z_y_x);
-    near_thin.erase(std::unique(near_thin.begin(), near_thin.end()), near_thin.end());
+    const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
+    const auto d0 = static_cast<std::uint64_t>(dims[0]), d1 = static_cast<std::uint64_t>(dims[1]);
     std::vector<std::array<std::int64_t, 3>> between;
-    for (const auto& c : near_thin) {
+    for (const std::uint64_t key : blocks_around(thin, dims, 0, 2)) {
+        const std::array<std::int64_t, 3> c{std::int64_t(key % d0), std::int64_t(key / d0 % d1),
+                                            std::int64_t(key / d0 / d1)};
+        if (!surface(c[0], c[1], c[2]) || is_thin_cell(c)) continue;
         std::array<std::array<std::int64_t, 3>, 125> offsets;
         std::size_t n = 0;
         for (std::int64_t dz = -2; dz <= 2; ++dz)

@@ -374,7 +374,7 @@ struct Stretch {
     std::uint32_t border;            // the coarse border
     std::vector<std::uint32_t> fine; // the fine vertices, in the fine border's order
     std::vector<std::uint32_t> weld; // per fine vertex: the coarse vertex's index in the border, or none
-    std::vector<double> s;           // per fine vertex not welded: where on the coarse border (falling)
+    std::vector<double> s;           // per fine vertex: where on the coarse border (falling; a weld's vertex)
     std::vector<V3> at;              // and its place there
 };
 
@@ -479,10 +479,9 @@ SeamReport append_joined(Mesh& coarse, const Mesh& thin, const GridSpec& grid,
             if (st.fine.size() >= 2) stretches.push_back(std::move(st));
         }
     }
-    // Each fine vertex in one stretch, each coarse vertex welded once, the stretches on a coarse
-    // border apart; then no fine triangle turned over by the moves. What fails stays open.
-    // Longest first: a stretch is kept when none kept before has one of its fine vertices, welds
-    // one of its coarse vertices or lies on the same coarse border across its span.
+    // Longest first, a stretch is kept when none kept before has one of its fine vertices, welds
+    // one of its coarse vertices or lies on the same coarse border across its span. What is not
+    // kept stays open.
     std::vector<char> kept(stretches.size(), 0);
     {
         std::vector<std::size_t> order(stretches.size());
