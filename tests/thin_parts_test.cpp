@@ -201,6 +201,25 @@ TEST_CASE("thin cells on the deck: the railings', not the deck's, a container's 
     CHECK(!is_thin({12, 4.25, 2.6}));  // the long container's top
     CHECK(!is_thin({20, 21.5, 1.05})); // the 50 cm pipe's top
     CHECK(!is_thin({51, 6, 3.5}));     // the deckhouse's wall
+    // The deck's edges, where the deck ends part-way through a row of cells: a plane's edge, not
+    // a rail (the posts' feet, within 30 cm of x = 0.5, 2.5, ..., left out).
+    const std::vector<std::array<std::int64_t, 3>> thin_only = thin_cells(cells, automatic_iso(cells));
+    std::vector<std::uint64_t> thin_keys;
+    for (const auto& c : thin_only)
+        thin_keys.push_back((std::uint64_t(c[2]) * std::uint64_t(dims[1]) + std::uint64_t(c[1])) *
+                                std::uint64_t(dims[0]) +
+                            std::uint64_t(c[0]));
+    std::sort(thin_keys.begin(), thin_keys.end());
+    int edges = 0, thin_edges = 0;
+    for (double x = 1; x < 63; x += 0.125) {
+        if (std::abs(std::remainder(x - 0.5, 2.0)) < 0.3) continue;
+        for (const double y : {0.01, 23.99}) {
+            ++edges;
+            thin_edges += std::binary_search(thin_keys.begin(), thin_keys.end(), cell_at({x, y, 0}));
+        }
+    }
+    CHECK(edges > 600);
+    CHECK(thin_edges < edges / 10); // taken for lines, 64% of them are
     // A small share of the occupied cells: the refinement stays where it is needed.
     const auto occupied = std::count_if(thin.begin(), thin.end(), [&](std::uint64_t key) {
         const auto d = static_cast<std::uint64_t>(dims[0]), e = static_cast<std::uint64_t>(dims[1]);

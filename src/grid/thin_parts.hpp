@@ -15,7 +15,8 @@ namespace lasmesh {
 // A surface cell's part is thin when the count-weighted centroids of the surface cells around
 // it (3 x 3 x 3, at least 3 of them) spread along a line: the middle eigenvalue of their
 // covariance under this share of the largest. On a plane (a deck, a wall, a pipe wider than a
-// few cells) the two largest are alike; a plane's edge gives a quarter to a half.
+// few cells) the two largest are alike; a plane's edge gives a quarter to a half, and less where
+// the plane ends in a sliver of a cell: there the plane beside the line tells it apart.
 constexpr double thin_line_ratio = 0.2;
 
 // By default thin parts are refined when the automatic grid's occupied cells hold a median of at
@@ -35,7 +36,8 @@ constexpr std::int64_t thin_read_reach = 2;
 
 // The thin surface cells (count above `iso`) of `grid`, and the surface cells between them (thin
 // cells on opposite sides within two cells: a rail's junction with a post, a gap along a rail),
-// z slowest then y then x.
+// z slowest then y then x. A plane's edge is not thin: refined, its seam with the coarse mesh
+// would run along the plane, where the two sheets' borders wander apart and stay open.
 std::vector<std::array<std::int64_t, 3>> thin_cells(const CellGrid& grid, double iso);
 
 // The keys ((z * count[1] + y) * count[0] + x, ascending) of the blocks of 2^shift cells an edge
