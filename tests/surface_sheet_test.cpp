@@ -295,6 +295,59 @@ TEST_CASE("a noisy plane across cell faces: the sheet on the plane, not on the h
     CHECK(std::abs(signed_sum / double(inside)) < 0.003); // 0.13 cm; pooled along it too: 0.66 cm
 }
 
+TEST_CASE("a sheet ends where its points do, not a cell on; a steep plane keeps no hole") {
+    // A plate at z = 0.5 over x 0-1.99, y 0-3, 1 cm of noise, cells of 6 cm: its edge lies part
+    // of the way into a column of cells. The sheet runs to the edge and ends at that column's far
+    // side, under a cell past the points (left to run a cell on into the next column, it ended
+    // 2.0 cells out).
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 5;
+    const auto noise = [&] {
+        return (uniform(state) + uniform(state) + uniform(state) + uniform(state) - 2.0) * 1.7320508075688772 * 0.01;
+    };
+    for (int k = 0; k < 100000; ++k) {
+        const double x = 1.99 * uniform(state), y = 3 * uniform(state);
+        points.push_back(point(x, y + noise(), 0.5 + noise()));
+    }
+    test::write_file(dir.file("plate.las"),
+                     test::las_with_points(points, {-0.05, -0.05, 0.4}, {3.05, 3.05, 0.75}, 8, 3, 0.001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::longest(52); // cells of 5.96 cm
+    const CellGrid g = test::accumulate_file(dir.file("plate.las"), grid);
+    const double h = g.spec.cell_size;
+    const Mesh sheet = extract_sheet(g, automatic_iso(g));
+    double x_max = -1;
+    for (const auto& p : sheet.positions) x_max = std::max(x_max, sheet.origin[0] + p[0]);
+    CAPTURE(x_max);
+    CHECK(x_max > 1.99 - h / 2);
+    CHECK(x_max < 1.99 + 1.2 * h);
+
+    // A plane at 35 degrees across the lattice, cut to a disc: the zero set leaves surface cells
+    // into empty ones and returns all over it, and inside the disc there is no border edge.
+    points.clear();
+    const double slope = std::tan(35 * std::numbers::pi / 180);
+    for (int k = 0; k < 200000; ++k) {
+        const double r = 1.2 * std::sqrt(uniform(state)), t = 2 * std::numbers::pi * uniform(state);
+        const double x = 1.5 + r * std::cos(t), y = 1.5 + r * std::sin(t);
+        points.push_back(point(x + noise(), y + noise(), 0.5 + slope * (x - 1.5) + noise()));
+    }
+    test::write_file(dir.file("slope.las"),
+                     test::las_with_points(points, {-0.05, -0.05, -0.5}, {3.05, 3.05, 1.6}, 8, 3, 0.001));
+    const CellGrid slope_grid = test::accumulate_file(dir.file("slope.las"), grid);
+    const Mesh slanted = extract_sheet(slope_grid, automatic_iso(slope_grid));
+    std::size_t border_inside = 0, border = 0;
+    for (const auto& [edge, use] : edge_uses(slanted)) {
+        if (use.forward + use.backward != 1) continue;
+        ++border;
+        const auto& a = slanted.positions[edge.first];
+        const double x = slanted.origin[0] + a[0] - 1.5, y = slanted.origin[1] + a[1] - 1.5;
+        border_inside += std::hypot(x, y) < 1.0;
+    }
+    CHECK(border > 100); // the disc's rim
+    CHECK(border_inside == 0);
+}
+
 TEST_CASE("the sheet is the same for any number of threads") {
     test::TempDir dir;
     lasgen::SceneOptions options;

@@ -198,25 +198,25 @@ check "... the bytes of the files kept" cmp -s "$dir/cut-thin.ply" "$dir/kept-th
 check "--skip-bad-inputs --scan-bounds, thin parts refined: exit 0 ($rc), the bytes of the files kept" cmp -s "$dir/cut-scan.ply" "$dir/kept-scan.ply"
 
 # Thin parts: the deck's railings (rails and posts of 4 to 6 cm, in cells of 12 cm) meshed again
-# at half the cell come out nearer their true surfaces, at nearer their true area, than at the
-# cell; the parts with no thin part near stay as they were. Measured against the scene's own
-# primitives.
+# at half the cell come out nearer their true surfaces than at the cell (mean and p99), at no
+# more than 1.3 times their true area; the parts with no thin part near stay as they were.
+# Measured against the scene's own primitives. (At the cell, a rail's sheet ends within a cell
+# and a half of its points: its area is about its own, its shape a fin.)
 "$lasgen" --scene deck --points 2000000 -o "$dir/deck.las"
 "$lasmesh" "$dir/deck.las" -o "$dir/plain.ply" -v 2> "$dir/plain.txt"
 "$lasmesh" "$dir/deck.las" -o "$dir/thin.ply" --refine-thin --report "$dir/thin.json" -v 2> "$dir/thin.txt"
 "$lasgen" --scene deck --measure "$dir/plain.ply" --samples 200000 --json "$dir/plain.truth.json" > /dev/null
 "$lasgen" --scene deck --measure "$dir/thin.ply" --samples 200000 --json "$dir/thin.truth.json" > /dev/null
-check "--refine-thin: railings nearer their truth, in size too; containers and pipes as they were; p99 lower" python3 -c "
+check "--refine-thin: railings nearer their truth, not fattened; containers and pipes as they were; p99 lower" python3 -c "
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 pa, pb = ({p['part']: p for p in x['parts']} for x in (a, b))
 r0, r1 = pa['railings'], pb['railings']
-assert r1['mean'] < 0.6 * r0['mean'], (r0['mean'], r1['mean'])
-ratio = lambda p: p['mesh_area'] / p['truth_area']
-assert abs(ratio(r1) - 1) < 0.6 * abs(ratio(r0) - 1), (ratio(r0), ratio(r1))
+assert r1['mean'] < 0.6 * r0['mean'] and r1['p99'] < 0.6 * r0['p99'], (r0, r1)
+assert r1['mesh_area'] < 1.3 * r1['truth_area'], r1
 for part in ('containers', 'pipes'):
     assert abs(pb[part]['mean'] - pa[part]['mean']) < 0.1 * pa[part]['mean'], part
-assert b['p99'] < 0.7 * a['p99'], (a['p99'], b['p99'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
+assert b['p99'] < 0.8 * a['p99'], (a['p99'], b['p99'])" "$dir/plain.truth.json" "$dir/thin.truth.json"
 # Two faces: the deckhouse's walls, 3 cm plates scanned on both faces with 1 cm of noise, in cells
 # of 12 cm, get a sheet on each face (one sheet between them had half their area, 1 cm off); the
 # railings, whose cells spread across the sheet by their width, are not taken for plates (2.49
@@ -239,15 +239,14 @@ check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin
 # Where the fine mesh meets the coarse one, on the faces of the cells between them, the borders
 # that run side by side are joined, across faces too; the cells between thin cells are refined
 # (a rail's junctions), and a plane's edge is not (its seam would run along the plane, where the
-# two sheets' borders wander apart): on this deck under 200 units of border stay open (341 when
-# the deck's edges are taken for rails, 233 when nothing is joined; the rest: a tube's ring
-# meeting the coarse sheet, holes of either sheet, the coarse sheet between sparse rails), and
-# the mesh stays manifold and oriented.
+# two sheets' borders wander apart): on this deck under 130 units of border stay open, and under
+# four fifths of it (97 of 152; the rest: a tube's ring meeting the coarse sheet, a post's foot
+# on the deck, holes of either sheet), and the mesh stays manifold and oriented.
 check "--refine-thin: the seam joined, little of it open" python3 -c "
 import re, sys
 m = re.search(r'^seam +([0-9.]+) of ([0-9.]+) of border left open', open(sys.argv[1]).read(), re.M)
-assert m and float(m.group(2)) > 100 and float(m.group(1)) < 200, m and m.groups()
-assert float(m.group(1)) < 0.85 * float(m.group(2)), m.groups()" "$dir/thin.txt"
+assert m and float(m.group(2)) > 100 and float(m.group(1)) < 130, m and m.groups()
+assert float(m.group(1)) < 0.8 * float(m.group(2)), m.groups()" "$dir/thin.txt"
 check "--refine-thin: joined, every edge still between at most two triangles, facing one way" python3 -c "
 import collections, struct, sys
 data = open(sys.argv[1], 'rb').read()
