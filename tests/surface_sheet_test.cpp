@@ -296,10 +296,10 @@ TEST_CASE("a noisy plane across cell faces: the sheet on the plane, not on the h
 }
 
 TEST_CASE("a sheet ends where its points do, not a cell on; a steep plane keeps no hole") {
-    // A plate at z = 0.5 over x 0-1.99, y 0-3, 1 cm of noise, cells of 6 cm: its edge lies part
+    // A plate at z = 0.5 over x 0-1.99, y 0-3, 1 cm of noise on each axis, cells of 6 cm: its edge lies part
     // of the way into a column of cells. The sheet runs to the edge and ends at that column's far
-    // side, under a cell past the points (left to run a cell on into the next column, it ended
-    // 2.0 cells out).
+    // side, 0.96 cells past the points (left to run a cell on into the next column, it ended 2.0
+    // cells out; cut back at every corner past the points, 0.2 cells short of them).
     test::TempDir dir;
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 5;
@@ -308,7 +308,7 @@ TEST_CASE("a sheet ends where its points do, not a cell on; a steep plane keeps 
     };
     for (int k = 0; k < 100000; ++k) {
         const double x = 1.99 * uniform(state), y = 3 * uniform(state);
-        points.push_back(point(x, y + noise(), 0.5 + noise()));
+        points.push_back(point(x + noise(), y + noise(), 0.5 + noise()));
     }
     test::write_file(dir.file("plate.las"),
                      test::las_with_points(points, {-0.05, -0.05, 0.4}, {3.05, 3.05, 0.75}, 8, 3, 0.001));
@@ -320,7 +320,7 @@ TEST_CASE("a sheet ends where its points do, not a cell on; a steep plane keeps 
     double x_max = -1;
     for (const auto& p : sheet.positions) x_max = std::max(x_max, sheet.origin[0] + p[0]);
     CAPTURE(x_max);
-    CHECK(x_max > 1.99 - h / 2);
+    CHECK(x_max > 1.99 + 0.5 * h); // to that column's far side, not cut back before it
     CHECK(x_max < 1.99 + 1.2 * h);
 
     // A plane at 35 degrees across the lattice, cut to a disc: the zero set leaves surface cells

@@ -706,7 +706,9 @@ struct SheetField {
     // the sheet ends in or at its last cells instead of running a cell on past the points (a
     // deck's edge, a pipe's open end, a fin around a rail thinner than a cell). Where the zero
     // set leaves a surface cell into an empty one and returns (a plane at a slant to the
-    // lattice), the corners it needs lie within the spread of the cells around.
+    // lattice), the corners it needs lie within the spread of the cells around; where the
+    // surface curves round within the ring (a pipe a cell or two across, meshed in pieces that
+    // such corners join), the ring's planes turn more than 25 degrees and the corner stays.
     bool past_points(std::uint32_t p, const Vec& corner) const {
         if (planes.spread_along.empty() || planes.tubular(p)) return false;
         const Vec& m = planes.centroid[p];
@@ -741,11 +743,18 @@ struct SheetField {
             const Planes& planes = field.planes;
             std::uint32_t nearest = no_plane;
             double nearest_distance = 0;
-            bool from_ring = false, past_all = true; // the corner from the ring, past every ring cell's points
+            // The corner from the ring; past every ring cell's points; their planes alike (within
+            // 25 degrees of the first's: one surface running out, not one curving round).
+            bool from_ring = false, past_all = true;
+            std::uint32_t first_ring = no_plane;
             auto consider = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
                 const std::uint32_t p = at(cx, cy, cz);
                 if (p == no_plane) return;
-                if (from_ring && past_all) past_all = field.past_points(p, corner);
+                if (from_ring && past_all) {
+                    if (first_ring == no_plane) first_ring = p;
+                    past_all = std::abs(dot(planes.normal[p], planes.normal[first_ring])) >= smooth_cosine &&
+                               field.past_points(p, corner);
+                }
                 const Vec& m = planes.centroid[p];
                 const Vec d{corner[0] - m[0], corner[1] - m[1], corner[2] - m[2]};
                 if (nearest == no_plane || dot(d, d) < nearest_distance) nearest = p, nearest_distance = dot(d, d);
@@ -932,9 +941,11 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
     estimate_normals(planes);
     if (linear == LinearParts::tubes) estimate_tubes(planes);
     if (!planes.scatter.empty()) {
-        std::vector<double> spread, points, middle;
-        layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
-        estimate_thickness(planes, grid.spec.cell_size, spread, points, middle);
+        {
+            std::vector<double> spread, points, middle;
+            layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
+            estimate_thickness(planes, grid.spec.cell_size, spread, points, middle);
+        }
         keep_spread_along(planes);
         std::vector<std::array<float, 6>>().swap(planes.scatter);
     }
@@ -954,9 +965,11 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
                         [](std::uint32_t p) { return p != no_plane; }))
             surface_bricks.push_back(grid.brick_keys[b]);
     }
-    // Once sampled, the corners no longer look at cells: what finds a cell's plane may go.
+    // Once sampled, the corners no longer look at cells: what finds a cell's plane may go, and
+    // the points' spreads.
     const auto sampled = [&] {
         std::vector<std::uint32_t>().swap(planes.of_record);
+        std::vector<std::array<float, 3>>().swap(planes.spread_along);
         if (!owned) return;
         owned->brick_table = BrickTable();
         for (auto* v : {&owned->brick_keys, &owned->brick_masks, &owned->brick_first})

@@ -22,16 +22,17 @@ check "cloud to mesh: mean within about half a cell" python3 -c "assert $c2m < 0
 check "sheet: median cloud to mesh under a tenth of a cell" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["median"]') < 0.1 * $cell"
 check "mesh to cloud: mean within about half a cell" python3 -c "assert $m2c < 0.55 * $cell"
 # Coverage: every point but the outlier clusters (class 7, about 0.4% of them) lies within two
-# cells, less a quarter of a percent. (At these 25 cm cells the pipe riser, 25 cm in radius, is a
-# ring of cells meshed in pieces; since sheets end at their points, its upper pieces no longer
-# touch the rest and are removed as small pieces: 0.22% of the points.)
+# cells, less a tenth of a percent. (At these 25 cm cells the pipe riser, 25 cm in radius, is a
+# ring of cells meshed in pieces that corners past the points join: were sheets cut back to
+# their points there too, its upper pieces would fall to small-piece removal, 0.22% of the
+# points.)
 outliers=$(python3 -c '
 import struct, sys
 d = open(sys.argv[1], "rb").read()
 at, length, n = struct.unpack_from("<I", d, 96)[0], struct.unpack_from("<H", d, 105)[0], struct.unpack_from("<I", d, 107)[0]
 print(sum(d[at + i * length + 15] & 31 == 7 for i in range(n)) / n)' "$dir/deck.las")
 within2=$(field "$dir/c.json" '["cloud_to_mesh"]["within_2_cells"]')
-check "every surface covered ($within2 within 2 cells, $outliers of the points outliers)" python3 -c "assert $within2 > 1 - $outliers - 0.0025"
+check "every surface covered ($within2 within 2 cells, $outliers of the points outliers)" python3 -c "assert $within2 > 1 - $outliers - 0.001"
 check "outlier clusters not meshed (metres away)" python3 -c "assert $(field "$dir/c.json" '["cloud_to_mesh"]["max"]') > 5"
 check "every sample used" test "$(field "$dir/c.json" '["points_used"]')" = 1000000
 # The compressed outputs measure the same, to within their quantization step (under a tenth

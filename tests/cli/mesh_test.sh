@@ -240,7 +240,7 @@ check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin
 # that run side by side are joined, across faces too; the cells between thin cells are refined
 # (a rail's junctions), and a plane's edge is not (its seam would run along the plane, where the
 # two sheets' borders wander apart): on this deck under 130 units of border stay open, and under
-# four fifths of it (97 of 152; the rest: a tube's ring meeting the coarse sheet, a post's foot
+# four fifths of it (101 of 157; the rest: a tube's ring meeting the coarse sheet, a post's foot
 # on the deck, holes of either sheet), and the mesh stays manifold and oriented.
 check "--refine-thin: the seam joined, little of it open" python3 -c "
 import re, sys
