@@ -580,12 +580,13 @@ Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::stri
     return refined;
 }
 
-Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid) {
+Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid,
+                     const std::function<const SeamCorners&()>& coarse_seam) {
     // A quarter of the iso: the same points per area in cells of half the edge; an automatic one
     // rounded as automatic_iso rounds (not the finer grid's own median, which would follow how
     // far around the thin parts its points were read).
     const double fine_iso = iso_auto ? std::max(1.0, std::floor(iso / 4)) : iso / 4;
-    Mesh thin = extract_sheet(refined.fine, fine_iso, LinearParts::tubes);
+    Mesh thin = extract_sheet(refined.fine, fine_iso, LinearParts::tubes, coarse_seam);
     keep_triangles_in_blocks(thin, grid, 0, refined.cells, true);
     return thin;
 }
@@ -655,21 +656,39 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             // cores idle (the read waits on the input and the device, the extraction has serial
             // steps). The read tells a recorder, replayed to the observer here once it is joined:
             // the observer hears only from the calling thread, in order.
-            RunReport read_report;       // before `thin_mesh`, whose end the unwinding waits for
-            RecordedObserver read_told;  // the same
-            std::future<Mesh> thin_mesh; // from std::async: its destructor waits for the read
+            // The fine sheet ends on the refined cells' faces where this sheet does: it waits for
+            // this sheet's samples at their corners, made before this sheet is marched.
+            const std::vector<std::uint64_t>* seam_cells = !pieces     ? nullptr
+                                                           : thin_read ? &thin_read->mesh_cells
+                                                           : refined   ? &refined->cells
+                                                                       : nullptr;
+            std::shared_future<SeamCorners> seam_corners;    // before `thin_mesh`: the read may wait on it
+            std::function<const SeamCorners&()> coarse_seam; // set once they are asked for
+            RunReport read_report;                           // before `thin_mesh`, whose end the unwinding waits for
+            RecordedObserver read_told;                      // the same
+            std::future<Mesh> thin_mesh;                     // from std::async: its destructor waits for the read
+            // After `thin_mesh`: on unwinding it goes first, so a read waiting on it wakes (to a
+            // broken promise) before thin_mesh's destructor waits for that read.
+            std::promise<SeamCorners> seam_sampled;
+            seam_corners = seam_sampled.get_future().share();
             const auto start_reading = [&] {
                 if (thin_read && pieces)
                     thin_mesh = std::async(std::launch::async, [&] {
                         const Refinement read =
                             read_thin_parts(*thin_read, inputs, a.left_out, o, read_told, read_report);
-                        return thin_parts_mesh(read, iso, r.iso_auto, spec);
+                        return thin_parts_mesh(read, iso, r.iso_auto, spec, coarse_seam);
                     });
             };
             // The sheet releases the grid's cells as soon as it no longer reads them; the closed
             // surface holds them to the end (and is never refined: check_mesh_options).
             if (o.surface == SurfaceKind::sheet) {
-                m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading);
+                std::optional<SeamRequest> seam;
+                if (seam_cells) {
+                    seam = SeamRequest{seam_corners_of(*seam_cells, {spec.dims[0], spec.dims[1], spec.dims[2]}),
+                                       [&](SeamCorners&& c) { seam_sampled.set_value(std::move(c)); }};
+                    coarse_seam = [&]() -> const SeamCorners& { return seam_corners.get(); };
+                }
+                m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading, seam ? &*seam : nullptr);
             } else {
                 m = extract_closed_surface(cells, iso, o.placement);
                 start_reading();
@@ -677,7 +696,8 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             // The cells near thin parts from the finer grid, the rest from this one.
             if (thin_mesh.valid() || (refined && pieces)) {
                 const bool read_now = thin_mesh.valid();
-                const Mesh thin = read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec);
+                const Mesh thin =
+                    read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec, coarse_seam);
                 if (read_now) {
                     r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
                     read_told.replay(watch);

@@ -6,11 +6,13 @@
 
 #include "grid/cell_sums.hpp"
 #include "lasmesh/build_mesh.hpp"
+#include "mesh/seam_corners.hpp"
 #include "read/crs.hpp"
 #include "read/survey.hpp"
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -142,8 +144,11 @@ Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::stri
                            RunReport& r);
 
 // The mesh of the thin parts at `iso` (the grid's; `iso_auto` when chosen from the grid): the
-// finer grid's sheet, with tubes along lines, in the refined cells of `grid` only.
-Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid);
+// finer grid's sheet, with tubes along lines, in the refined cells of `grid` only, ending on
+// their faces where the grid's sheet does (`coarse_seam`: its samples at their corners,
+// extract_sheet's SeamRequest; may wait for them).
+Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid,
+                     const std::function<const SeamCorners&()>& coarse_seam);
 
 // plan_thin_read, then read_thin_parts.
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 
 using namespace lasmesh;
 
@@ -248,4 +249,157 @@ TEST_CASE("the seam round a corner: coarse triangles with border edges on two fa
         CHECK(on_planes >= 16);
         CHECK(open <= 2); // at most the corner's own edges left
     }
+}
+
+TEST_CASE("the seam's faces: the fine sheet ends where the coarse one crosses them, and is joined there") {
+    // The coarse layer's points at z = 1.7, the fine one's at z = 2.4: 0.7 apart, more than the
+    // half cell within which borders are laid onto each other. Marched each on its own, the
+    // borders stay apart; with the coarse sheet's values on the seam's faces (x = 6), the fine
+    // sheet comes down to z = 1.7 there, and the two join into one surface.
+    GridSpec coarse_spec;
+    coarse_spec.dims = {12, 8, 4};
+    GridSpec fine_spec = coarse_spec;
+    fine_spec.cell_size = 0.5, fine_spec.dims = {24, 16, 8};
+    const auto layer_at = [](const GridSpec& spec, std::uint32_t layer, double within) {
+        CellGrid g = layer_grid(spec, layer);
+        for (CellSums& c : g.cells) c.position[2] = c.count * static_cast<std::uint64_t>(within * 1000);
+        return g;
+    };
+    std::vector<std::uint64_t> fine_cells;
+    for (std::uint64_t z = 0; z < 4; ++z)
+        for (std::uint64_t y = 0; y < 8; ++y)
+            for (std::uint64_t x = 0; x < 6; ++x) fine_cells.push_back((z * 8 + y) * 12 + x);
+    const auto joined_at_seam = [&](bool seam_values) {
+        std::optional<SeamCorners> sampled;
+        SeamRequest request{seam_corners_of(fine_cells, {12, 8, 4}), [&](SeamCorners&& c) { sampled = std::move(c); }};
+        Mesh coarse = extract_sheet(layer_at(coarse_spec, 1, 0.7), 1, LinearParts::planes, {}, &request);
+        REQUIRE(sampled);
+        const CellGrid fine_grid = layer_at(fine_spec, 4, 0.8);
+        Mesh fine = seam_values ? extract_sheet(fine_grid, 1, LinearParts::planes,
+                                                [&]() -> const SeamCorners& { return *sampled; })
+                                : extract_sheet(fine_grid, 1);
+        keep_triangles_in_blocks(coarse, coarse_spec, 0, fine_cells, false);
+        keep_triangles_in_blocks(fine, coarse_spec, 0, fine_cells, true);
+        REQUIRE(!coarse.triangles.empty());
+        REQUIRE(!fine.triangles.empty());
+        // Away from the seam the fine sheet keeps its own place.
+        for (const auto& p : fine.positions)
+            if (p[0] < 5.5f) CHECK(p[2] == doctest::Approx(2.4));
+        Mesh joined = coarse;
+        const SeamReport seam = append_joined(joined, fine, coarse_spec, fine_cells);
+        return std::pair{seam, joined};
+    };
+    const auto [apart, unjoined] = joined_at_seam(false);
+    CHECK(apart.joined == 0);
+    CHECK(apart.open_after == doctest::Approx(16));
+    const auto [seam, joined] = joined_at_seam(true);
+    CHECK(seam.joined >= 1);
+    CHECK(seam.open_before == doctest::Approx(16));
+    CHECK(seam.open_after == 0);
+    const Edges e = edges_of(joined);
+    CHECK(!e.facing_apart);
+    std::size_t on_plane = 0;
+    for (const auto& [edge, uses] : e.uses) {
+        CHECK(uses <= 2);
+        if (joined.positions[edge.first][0] == 6.0f && joined.positions[edge.second][0] == 6.0f) {
+            ++on_plane;
+            CHECK(uses == 2);
+        }
+    }
+    CHECK(on_plane >= 16);
+    for (const auto& p : joined.positions)
+        if (p[0] == 6.0f) CHECK(p[2] == doctest::Approx(1.7));
+}
+
+TEST_CASE("the seam's faces: the coarse values a fine lattice point takes, and where it takes none") {
+    // Cells of 1, 4 x 4 x 4; the cells with x < 2 refined. The coarse corners' values are their
+    // z - 1.5 (a plane facing up), every one defined.
+    SeamCorners c = seam_corners_of(
+        [] {
+            std::vector<std::uint64_t> cells;
+            for (std::uint64_t z = 0; z < 4; ++z)
+                for (std::uint64_t y = 0; y < 4; ++y)
+                    for (std::uint64_t x = 0; x < 2; ++x) cells.push_back((z * 4 + y) * 4 + x);
+            return cells;
+        }(),
+        {4, 4, 4});
+    REQUIRE(c.corners.size() == 3 * 5 * 5);
+    for (std::size_t i = 0; i < c.corners.size(); ++i) {
+        const auto p = c.corner_of(c.corners[i]);
+        c.value.push_back(static_cast<float>(p[2] - 1.5 + 0.1 * p[1]));
+        c.normal.push_back({0, 0, 1});
+        c.flags.push_back(SeamCorners::defined);
+    }
+    const std::array<double, 3> up{0, 0, 1}, down{0, 0, -1}, across{1, 0, 0};
+    const SeamFaces faces(c);
+    float v = 0;
+    // Fine lattice points (in half cells): on the plane x = 2 (fine x = 4) between refined and not.
+    CHECK(faces.coarse_value(4, 2, 2, up, v) == SeamFaces::Found::value); // a coarse corner (2, 1, 1)
+    CHECK(v == doctest::Approx(1 - 1.5 + 0.1));
+    CHECK(faces.coarse_value(4, 2, 3, up, v) == SeamFaces::Found::value); // mid-edge: z 1.5
+    CHECK(v == doctest::Approx(1.5 - 1.5 + 0.1));
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::value); // mid-face: y 1.5, z 1.5
+    CHECK(v == doctest::Approx(0.15));
+    // A fine plane facing the other way takes the values negated.
+    CHECK(faces.coarse_value(4, 3, 3, down, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(-0.15));
+    // One running across the coarse plane is another surface: its own value stays.
+    CHECK(faces.coarse_value(4, 3, 3, across, v) == SeamFaces::Found::off_seam);
+    // Inside the refined cells, or among the others, or on a face between two refined cells.
+    CHECK(faces.coarse_value(3, 3, 3, up, v) == SeamFaces::Found::off_seam);
+    CHECK(faces.coarse_value(6, 3, 3, up, v) == SeamFaces::Found::off_seam);
+    CHECK(faces.coarse_value(2, 3, 3, up, v) == SeamFaces::Found::off_seam);
+    // On the grid's side (x = 0), with no coarse cells beyond: no seam either.
+    CHECK(faces.coarse_value(0, 3, 3, up, v) == SeamFaces::Found::off_seam);
+    // Where the coarse sheet is undefined at a corner it interpolates, or rejects the crossing
+    // on an edge it lies on, the fine sample is undefined too (the coarse cube there is not meshed).
+    const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+        return static_cast<std::size_t>(std::lower_bound(c.corners.begin(), c.corners.end(), c.key_of(x, y, z)) -
+                                        c.corners.begin());
+    };
+    c.flags[at(2, 1, 2)] = 0;
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::undefined); // mid-face (2, 1.5, 1.5)
+    CHECK(faces.coarse_value(4, 2, 2, up, v) == SeamFaces::Found::value);     // (2, 1, 1)
+    c.flags[at(2, 1, 2)] = SeamCorners::defined;
+    c.flags[at(2, 1, 1)] = SeamCorners::defined | 1u << (1 + 2);              // the edge up z from (2, 1, 1)
+    CHECK(faces.coarse_value(4, 2, 3, up, v) == SeamFaces::Found::undefined); // on that edge
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::undefined); // on a face it bounds
+    CHECK(faces.coarse_value(4, 3, 2, up, v) == SeamFaces::Found::value);     // on the edge along y
+}
+
+TEST_CASE("the seam's corners: the coarse sheet's samples there, with the crossings it rejects") {
+    // A step: the layer at z 1.5 for x < 6, at z 5.5 from x = 6 on (cells of 1, 12 x 8 x 8). The
+    // cells x 5-6 are refined. The corners round the step sample either plane, and where a
+    // vertical edge runs from one plane's samples to the other's, four cells apart, the sheet
+    // rejects its crossing: the fine sheet must leave it open too (SeamFaces).
+    GridSpec spec;
+    spec.dims = {12, 8, 8};
+    std::vector<std::uint64_t> count(spec.cell_count(), 0), refined;
+    for (std::uint64_t y = 0; y < 8; ++y)
+        for (std::uint64_t x = 0; x < 12; ++x) count[((x < 6 ? 1 : 5) * 8 + y) * 12 + x] = 4;
+    for (std::uint64_t z = 0; z < 8; ++z)
+        for (std::uint64_t y = 0; y < 8; ++y)
+            for (std::uint64_t x = 5; x < 7; ++x) refined.push_back((z * 8 + y) * 12 + x);
+    std::optional<SeamCorners> sampled;
+    SeamRequest request{seam_corners_of(refined, {12, 8, 8}), [&](SeamCorners&& c) { sampled = std::move(c); }};
+    (void)extract_sheet(test::grid_from_counts(spec, count), 1, LinearParts::planes, {}, &request);
+    REQUIRE(sampled);
+    const SeamCorners& c = *sampled;
+    REQUIRE(c.corners.size() == 3 * 9 * 9);
+    std::size_t defined = 0, rejected = 0;
+    for (std::size_t i = 0; i < c.corners.size(); ++i) {
+        const auto p = c.corner_of(c.corners[i]);
+        if (!(c.flags[i] & SeamCorners::defined)) continue;
+        ++defined;
+        // Defined corners carry their plane's normal (up) and its signed distance.
+        CHECK(c.normal[i][2] == doctest::Approx(1));
+        if (p[0] <= 5 && p[2] <= 3) CHECK(c.value[i] == doctest::Approx(p[2] - 1.5));
+        rejected += c.flags[i] >> 3 & 1; // the edge up z
+        if (c.flags[i] & 0b1110) {       // any: between the planes, round the step
+            CHECK(p[2] >= 2);
+            CHECK(p[2] <= 4);
+        }
+    }
+    CHECK(defined > 0);
+    CHECK(rejected >= 9); // for every y
 }

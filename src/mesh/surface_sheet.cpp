@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace lasmesh {
 
@@ -698,6 +699,9 @@ struct SheetField {
     // two below it to one above), so with the lattice `extract` marches (the bricks of corners a
     // cell below to two above every surface brick's cells) no corner outside it is defined.
     static constexpr bool undefined_outside_active = true;
+    // Where this sheet meets a coarser one's mesh: the faces on which it takes the coarser
+    // sheet's values.
+    const SeamFaces* seam = nullptr;
 
     // Whether `corner` lies along p's plane more than sheet_end_margin cells past where p's
     // points end, the way to it: their mean plus sqrt(3) standard deviations that way (the end
@@ -774,6 +778,15 @@ struct SheetField {
                              bits != 0; bits &= bits - 1)
                             consider(x - 2 + std::countr_zero(bits), cy, cz);
             if (nearest == no_plane || (from_ring && past_all)) return {};
+            if (field.seam) {
+                float coarse = 0;
+                const Vec n = field.normal_at(nearest, corner);
+                switch (field.seam->coarse_value(x, y, z, n, coarse)) {
+                case SeamFaces::Found::undefined: return {};
+                case SeamFaces::Found::value: return {coarse, nearest, true, coarse < 0};
+                case SeamFaces::Found::off_seam: break;
+                }
+            }
             if (const auto [f, tube] = planes.tube_distance(nearest, corner); tube) // to the tube, out
                 return {static_cast<float>(f), nearest, true, f < 0};
             const Vec& m = planes.centroid[nearest];
@@ -930,11 +943,48 @@ void keep_spread_along(Planes& planes) {
     });
 }
 
+// The sheet's samples at the seam's corners, and the crossings it rejects on the lattice edges
+// between them (SeamCorners).
+void sample_seam(const SheetField& field, SeamCorners& c) {
+    const std::size_t n = c.corners.size();
+    std::vector<detail::FieldSample> sample(n);
+    c.value.assign(n, 0);
+    c.normal.assign(n, {});
+    c.flags.assign(n, 0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        const std::array<std::int64_t, 3> p = c.corner_of(c.corners[i]);
+        const detail::FieldSample s = field.sampler(p, 1).sample(p[0], p[1], p[2]);
+        sample[i] = s;
+        if (!s.defined) return;
+        c.value[i] = s.value;
+        const double h = field.h;
+        const Vec n = field.normal_at(s.source, Vec{double(p[0]) * h, double(p[1]) * h, double(p[2]) * h});
+        c.normal[i] = {float(n[0]), float(n[1]), float(n[2])};
+        c.flags[i] = SeamCorners::defined;
+    });
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        if (!sample[i].defined) return;
+        const std::array<std::int64_t, 3> p = c.corner_of(c.corners[i]);
+        for (int a = 0; a < 3; ++a) {
+            std::array<std::int64_t, 3> q = p;
+            ++q[a];
+            const std::uint64_t key = c.key_of(q[0], q[1], q[2]);
+            const auto at = std::lower_bound(c.corners.begin(), c.corners.end(), key);
+            if (at == c.corners.end() || *at != key) continue;
+            const detail::FieldSample& s = sample[i];
+            const detail::FieldSample& t = sample[static_cast<std::size_t>(at - c.corners.begin())];
+            if (t.defined && s.inside != t.inside && !field.accepts(s, t))
+                c.flags[i] = static_cast<std::uint8_t>(c.flags[i] | 1u << (1 + a));
+        }
+    });
+}
+
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
 // table once the corners are sampled.
 Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned,
-             const std::function<void()>& released) {
+             const std::function<void()>& released, SeamRequest* seam_request,
+             const std::function<const SeamCorners&()>& coarse_seam) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     if (released) released();
@@ -955,8 +1005,14 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
     std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
     std::vector<std::uint64_t>().swap(planes.count);
-    const SheetField field{
+    SheetField field{
         planes, {grid.spec.dims[0] + 1, grid.spec.dims[1] + 1, grid.spec.dims[2] + 1}, grid.spec.cell_size};
+    if (seam_request) {
+        sample_seam(field, seam_request->corners);
+        if (seam_request->sampled) seam_request->sampled(std::move(seam_request->corners));
+    }
+    std::optional<SeamFaces> seam_faces;
+    if (coarse_seam) field.seam = &seam_faces.emplace(coarse_seam());
     // Corners are sampled only near surface cells: the bricks that hold one, and their neighbours.
     std::vector<std::uint64_t> surface_bricks;
     for (std::uint64_t b = 0; b < grid.brick_keys.size(); ++b) {
@@ -988,12 +1044,14 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
 
 } // namespace
 
-Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear) {
-    return extract(grid, iso, linear, nullptr, {});
+Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear,
+                   const std::function<const SeamCorners&()>& coarse_seam) {
+    return extract(grid, iso, linear, nullptr, {}, nullptr, coarse_seam);
 }
 
-Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::function<void()>& released) {
-    return extract(grid, iso, linear, &grid, released);
+Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::function<void()>& released,
+                   SeamRequest* seam) {
+    return extract(grid, iso, linear, &grid, released, seam, {});
 }
 
 } // namespace lasmesh

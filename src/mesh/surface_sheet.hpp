@@ -6,6 +6,7 @@
 #include "grid/cell_sums.hpp"
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/surface.hpp"
+#include "mesh/seam_corners.hpp"
 
 #include <functional>
 
@@ -43,13 +44,26 @@ namespace lasmesh {
 // along the oriented normals; vertex normals are the planes' normals (a tube's: away from its axis)
 // and vertex colours the cells' mean colours, both interpolated along the edge. Each connected part
 // of the result is turned, if need be, to face the outside.
+//
+// Where a finer sheet's mesh is kept in some of the grid's cells (the thin parts, joined by
+// seam.hpp's append_joined), the finer sheet ends on those cells' faces where this one does:
+// `coarse_seam`, when given, is called (and may wait) once the finer sheet's planes are made,
+// and gives this sheet's samples at the cells' corners (SeamRequest below), which the finer
+// sheet takes on the faces between those cells and the others (SeamFaces).
 enum class LinearParts { planes, tubes };
-Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes);
+Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes,
+                   const std::function<const SeamCorners&()>& coarse_seam = {});
+// The coarse side of a seam: the sheet's samples at `corners`' corners (seam_corners_of), made
+// and handed to `sampled` (on this thread) before the sheet is marched.
+struct SeamRequest {
+    SeamCorners corners;
+    std::function<void(SeamCorners&&)> sampled;
+};
 // The same, releasing the grid's cells as soon as the planes are made (the grid keeps its
 // geometry and index, its cells are empty afterwards): the grid's memory and the mesh's never
 // add up. `released`, when given, is called then, on this thread: a caller may start work
 // that needs the memory (build_mesh starts the second read of the thin parts there).
 Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts::planes,
-                   const std::function<void()>& released = {});
+                   const std::function<void()>& released = {}, SeamRequest* seam = nullptr);
 
 } // namespace lasmesh
