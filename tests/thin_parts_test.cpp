@@ -268,3 +268,27 @@ TEST_CASE("thin cells: a rail's junction with a post between them, a plate the r
     for (const auto& c : thin) CHECK(c[0] < 21);
     for (std::int64_t x = 3; x < 7; ++x) CHECK(!has(x, 7, 8));
 }
+
+TEST_CASE("thin cells: a rail along a diagonal is thin, a plane's diagonal edge is not") {
+    // Cells of 1, 24 x 24 x 12, 8 points each at its centre. A rail along the diagonal x = y at
+    // z = 8 (a staircase of cells, two a step), and a plate at z = 3 whose edge runs along the
+    // same diagonal (the cells with y <= x). Told apart only along the line's own direction: across
+    // a diagonal rail, a line taken along x would find the rail's own cells beside it.
+    GridSpec spec;
+    spec.dims = {24, 24, 12};
+    std::vector<std::uint64_t> count(spec.cell_count(), 0);
+    const auto set = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+        count[(z * spec.dims[1] + y) * spec.dims[0] + x] = 8;
+    };
+    for (std::uint64_t k = 2; k < 21; ++k) set(k, k, 8), set(k + 1, k, 8);
+    for (std::uint64_t y = 2; y < 22; ++y)
+        for (std::uint64_t x = y; x < 22; ++x) set(x, y, 3);
+    const std::vector<std::array<std::int64_t, 3>> thin = thin_cells(test::grid_from_counts(spec, count), 1);
+    const auto has = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+        return std::find(thin.begin(), thin.end(), std::array<std::int64_t, 3>{x, y, z}) != thin.end();
+    };
+    std::size_t rail = 0, edge = 0;
+    for (std::int64_t k = 5; k < 18; ++k) rail += has(k, k, 8) + has(k + 1, k, 8), edge += has(k, k, 3);
+    CHECK(rail >= 24); // of 26
+    CHECK(edge <= 2);  // of 13
+}

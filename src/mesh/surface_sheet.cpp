@@ -479,6 +479,9 @@ struct Outside {
 // from the axis (t half the arc's angle, h / 2R): the radius is corrected by that, and raised to
 // sqrt(2) / 2 of a cell, the distance from a line through cell centres along a lattice axis to the
 // nearest lattice edge: a thinner tube would slip between the corners and vanish.
+// A plane whose normal is within 45 degrees of a tube's axis lies across the tube.
+constexpr double across_tube_cosine = 0.7071;
+
 void estimate_tubes(Planes& planes) {
     const std::size_t n = planes.cell.size();
     planes.tube.assign(n, Tube{});
@@ -529,10 +532,20 @@ void estimate_tubes(Planes& planes) {
     planes.joins.assign(n, {no_plane, no_plane, no_plane, no_plane});
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
         if (planes.tube[p].radius > 0) return;
+        // The plane of the cell's own points where the grid has their moments (the cells around
+        // it lean toward a dense tube next to it), else its neighbourhood's.
+        Vec own = planes.normal[p];
+        if (!planes.scatter.empty()) {
+            const std::array<float, 6>& m = planes.scatter[p];
+            own = plane_normal({{{m[0], m[3], m[4]}, {m[3], m[1], m[5]}, {m[4], m[5], m[2]}}});
+        }
         std::array<std::pair<double, std::uint32_t>, 125> on;
         std::size_t count = 0;
         planes.for_each_within(static_cast<std::uint32_t>(p), 2, [&](std::uint32_t q) {
             if (!(planes.tube[q].radius > 0)) return;
+            // A plane across the tube's axis is a surface the tube stands on or runs into (the
+            // deck under a post, a wall a pipe enters), not part of the tube: it stays a plane.
+            if (std::abs(dot(own, planes.tube[q].direction)) > across_tube_cosine) return;
             const double off = surface_distance(planes.tube[q], planes.centroid[p]);
             if (off <= h / 2) on[count++] = {std::abs(off), q};
         });

@@ -33,7 +33,8 @@ namespace lasmesh {
 // line is on a tube (a rail, a post, a thin pipe): its samples are the distance to a cylinder round
 // that line, of the radius the cells' centroids give (at least the lattice's smallest: half a
 // cell's diagonal); a cell on or in tubes around it without being one (where a rail meets a post, a
-// tube's end) samples their union; crossings join tubes to tubes only. For grids fine enough that
+// tube's end; not a plane across their axes, as the deck under a post) samples their union;
+// crossings join tubes to tubes only. For grids fine enough that
 // such parts are a few cells across (the thin parts' grid of half the cell); at coarser cells a
 // rail is a line of single cells, and its tube would be the lattice's smallest, not its own.
 // A scan's layer of occupied cells, one or two cells thick, becomes one sheet through its points
