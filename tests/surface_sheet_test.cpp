@@ -631,3 +631,36 @@ TEST_CASE("thin parts at a fine grid: a plane a post stands on stays a plane rou
     CHECK(count > 50);
     CHECK(highest < 0.25 * cell);
 }
+
+TEST_CASE("thin parts at a fine grid: a noisy plane's edge is no tube") {
+    // A plane at z = 0.312 with 1 cm of noise (the sum of three uniforms), ending along x = 0.5, at
+    // cells of 3 cm. Along its edge the cells around lie in a strip two or three cells wide and as
+    // thick as the noise: long, and flat across, not round. Taken for a tube, the edge became a
+    // cylinder of at least half a cell's diagonal round the strip, standing off the plane.
+    const double cell = 0.03, level = 0.312;
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 3;
+    auto next = [&] { return uniform(state); };
+    while (points.size() < 100000) {
+        const double x = 0.1 + 0.4 * next(), y = 0.1 + 0.8 * next();
+        const double noise = (next() + next() + next() - 1.5) * 0.02;
+        points.push_back(point(x, y, level + noise));
+    }
+    test::TempDir dir;
+    test::write_file(dir.file("edge.las"), test::las_with_points(points, {0, 0, 0}, {1, 1, 1}, 8, 3, 0.0001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::cell_edge(cell);
+    const CellGrid g = test::accumulate_file(dir.file("edge.las"), grid);
+    const Mesh m = extract_sheet(g, automatic_iso(g), LinearParts::tubes);
+    REQUIRE(!m.triangles.empty());
+    double farthest = 0;
+    std::size_t near_edge = 0;
+    for (const auto& p : m.positions) {
+        const double x = m.origin[0] + p[0], y = m.origin[1] + p[1], z = m.origin[2] + p[2];
+        if (y < 0.2 || y > 0.8) continue;
+        farthest = std::max(farthest, std::abs(z - level));
+        near_edge += x > 0.45;
+    }
+    CHECK(near_edge > 20);
+    CHECK(farthest < 0.6 * cell); // 2.6 cm as a tube
+}

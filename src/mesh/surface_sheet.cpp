@@ -468,20 +468,25 @@ struct Outside {
     }
 };
 
+// A plane whose normal is within 45 degrees of a tube's axis lies across the tube.
+constexpr double across_tube_cosine = 0.7071;
+// The spread of a tube's cells' centroids across its axis is round: the smaller of its two
+// across is at least this share of the larger. Centroids on a circle give a half to one; a strip
+// along a plane's edge, two or three cells wide and as thick as the scan's noise, about a sixth
+// (1 cm of noise at 3 cm cells), and was taken for a tube at a tenth.
+constexpr double round_across = 0.3;
+
 // Step 1b (LinearParts::tubes): a surface cell whose surface cells around it (5 x 5 x 5, at least
 // four) lie along a line gets a tube round that line: the axis through their count-weighted mean
 // along their principal axis, the radius their RMS distance from it. Along a line: the spread of
 // their centroids (the covariance's eigenvalues, largest first) is long (the second under half the
-// first) and round across it (the third over a tenth of the second: a strip of a plane's edge is
-// long but flat), or too narrow to tell (the second under a quarter of a cell squared: a rail
+// first) and round across it (the third over round_across of the second: a strip of a plane's
+// edge is long but flat), or too narrow to tell (the second under a quarter of a cell squared: a rail
 // thinner than the lattice). The radius is at most two cells. A cell's centroid is the centroid of
 // the arc of the tube's surface inside it, about a cell long, which lies sin(t) / t of the radius
 // from the axis (t half the arc's angle, h / 2R): the radius is corrected by that, and raised to
 // sqrt(2) / 2 of a cell, the distance from a line through cell centres along a lattice axis to the
 // nearest lattice edge: a thinner tube would slip between the corners and vanish.
-// A plane whose normal is within 45 degrees of a tube's axis lies across the tube.
-constexpr double across_tube_cosine = 0.7071;
-
 void estimate_tubes(Planes& planes) {
     const std::size_t n = planes.cell.size();
     planes.tube.assign(n, Tube{});
@@ -513,7 +518,7 @@ void estimate_tubes(Planes& planes) {
         // The count-weighted squared distances from the axis: the spread across it.
         const double across = spread[1] + spread[2];
         const bool long_and_round =
-            spread[1] < 0.5 * spread[0] && (spread[2] > 0.1 * spread[1] || spread[1] < 0.25 * h * h * total);
+            spread[1] < 0.5 * spread[0] && (spread[2] > round_across * spread[1] || spread[1] < 0.25 * h * h * total);
         if (!long_and_round || across > 4 * h * h * total) return;
         const double rms = std::sqrt(across / total);
         double radius = rms;
