@@ -44,6 +44,7 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 
 #include <sys/resource.h>
 #ifdef __GLIBC__
@@ -683,12 +684,17 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             // surface holds them to the end (and is never refined: check_mesh_options).
             if (o.surface == SurfaceKind::sheet) {
                 std::optional<SeamRequest> seam;
+                bool handed = false;
                 if (seam_cells) {
                     seam = SeamRequest{seam_corners_of(*seam_cells, {spec.dims[0], spec.dims[1], spec.dims[2]}),
-                                       [&](SeamCorners&& c) { seam_sampled.set_value(std::move(c)); }};
+                                       [&](SeamCorners&& c) { seam_sampled.set_value(std::move(c)), handed = true; }};
                     coarse_seam = [&]() -> const SeamCorners& { return seam_corners.get(); };
                 }
                 m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading, seam ? &*seam : nullptr);
+                // A sheet that returned without sampling them must not leave the read waiting.
+                if (seam && !handed)
+                    seam_sampled.set_exception(std::make_exception_ptr(
+                        std::logic_error("the coarse sheet gave no samples on the seam's faces")));
             } else {
                 m = extract_closed_surface(cells, iso, o.placement);
                 start_reading();

@@ -10,7 +10,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <optional>
 
 using namespace lasmesh;
@@ -269,11 +271,19 @@ TEST_CASE("the seam's faces: the fine sheet ends where the coarse one crosses th
     for (std::uint64_t z = 0; z < 4; ++z)
         for (std::uint64_t y = 0; y < 8; ++y)
             for (std::uint64_t x = 0; x < 6; ++x) fine_cells.push_back((z * 8 + y) * 12 + x);
-    const auto joined_at_seam = [&](bool seam_values) {
+    // `undefined_at`: a coarse corner on the seam's face made undefined, as if the coarse sheet were
+    // (its cubes there unmeshed): so must the fine cubes round it be.
+    const auto joined_at_seam = [&](bool seam_values, std::optional<std::array<std::int64_t, 3>> undefined_at = {}) {
         std::optional<SeamCorners> sampled;
         SeamRequest request{seam_corners_of(fine_cells, {12, 8, 4}), [&](SeamCorners&& c) { sampled = std::move(c); }};
         Mesh coarse = extract_sheet(layer_at(coarse_spec, 1, 0.7), 1, LinearParts::planes, {}, &request);
         REQUIRE(sampled);
+        if (undefined_at) {
+            const std::uint64_t key = sampled->key_of((*undefined_at)[0], (*undefined_at)[1], (*undefined_at)[2]);
+            const auto at = std::lower_bound(sampled->corners.begin(), sampled->corners.end(), key);
+            REQUIRE(*at == key);
+            sampled->flags[static_cast<std::size_t>(at - sampled->corners.begin())] = 0;
+        }
         const CellGrid fine_grid = layer_at(fine_spec, 4, 0.8);
         Mesh fine = seam_values ? extract_sheet(fine_grid, 1, LinearParts::planes,
                                                 [&]() -> const SeamCorners& { return *sampled; })
@@ -285,10 +295,17 @@ TEST_CASE("the seam's faces: the fine sheet ends where the coarse one crosses th
         // Away from the seam the fine sheet keeps its own place.
         for (const auto& p : fine.positions)
             if (p[0] < 5.5f) CHECK(p[2] == doctest::Approx(2.4));
+        if (undefined_at) // no fine triangle touches the fine points round it on the face x = 6
+            for (const auto& t : fine.triangles)
+                for (const std::uint32_t v : t) {
+                    const auto& p = fine.positions[v];
+                    CHECK(!(p[0] > 5.55f && std::abs(p[1] - 4.0f) < 0.4f));
+                }
         Mesh joined = coarse;
         const SeamReport seam = append_joined(joined, fine, coarse_spec, fine_cells);
         return std::pair{seam, joined};
     };
+    (void)joined_at_seam(true, std::array<std::int64_t, 3>{6, 4, 2});
     const auto [apart, unjoined] = joined_at_seam(false);
     CHECK(apart.joined == 0);
     CHECK(apart.open_after == doctest::Approx(16));
@@ -360,11 +377,27 @@ TEST_CASE("the seam's faces: the coarse values a fine lattice point takes, and w
     c.flags[at(2, 1, 2)] = 0;
     CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::undefined); // mid-face (2, 1.5, 1.5)
     CHECK(faces.coarse_value(4, 2, 2, up, v) == SeamFaces::Found::value);     // (2, 1, 1)
+    // ... undefined whatever the normals: an undefined corner is not masked by one running across.
+    CHECK(faces.coarse_value(4, 3, 3, across, v) == SeamFaces::Found::undefined);
     c.flags[at(2, 1, 2)] = SeamCorners::defined;
-    c.flags[at(2, 1, 1)] = SeamCorners::defined | 1u << (1 + 2);              // the edge up z from (2, 1, 1)
+    // The edge up z from (2, 1, 1): rejected.
+    c.flags[at(2, 1, 1)] = SeamCorners::defined | 1u << (1 + 2);
     CHECK(faces.coarse_value(4, 2, 3, up, v) == SeamFaces::Found::undefined); // on that edge
     CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::undefined); // on a face it bounds
     CHECK(faces.coarse_value(4, 3, 2, up, v) == SeamFaces::Found::value);     // on the edge along y
+    c.flags[at(2, 1, 1)] = SeamCorners::defined;
+    // The face's other edges: up z from (2, 2, 1) bounds it, up z from (2, 1, 2) does not.
+    c.flags[at(2, 2, 1)] = SeamCorners::defined | 1u << (1 + 2);
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::undefined);
+    c.flags[at(2, 2, 1)] = SeamCorners::defined;
+    c.flags[at(2, 1, 2)] = SeamCorners::defined | 1u << (1 + 2);
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::value);
+    c.flags[at(2, 1, 2)] = SeamCorners::defined;
+    // The same surface within 60 degrees of the fine plane, another past it.
+    const double c50 = std::cos(50 * std::numbers::pi / 180), c70 = std::cos(70 * std::numbers::pi / 180);
+    CHECK(faces.coarse_value(4, 3, 3, {std::sqrt(1 - c50 * c50), 0, c50}, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(0.15));
+    CHECK(faces.coarse_value(4, 3, 3, {std::sqrt(1 - c70 * c70), 0, c70}, v) == SeamFaces::Found::off_seam);
 }
 
 TEST_CASE("the seam's corners: the coarse sheet's samples there, with the crossings it rejects") {

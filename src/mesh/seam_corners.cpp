@@ -78,7 +78,7 @@ SeamFaces::Found SeamFaces::coarse_value(std::int64_t x, std::int64_t y, std::in
     for (int a = 0; a < 3; ++a) first[a] = p[a] >> 1, odd[a] = static_cast<int>(p[a] & 1);
     const int count = 1 << (odd[0] + odd[1] + odd[2]);
     double sum = 0;
-    int seen = 0;
+    bool across = false; // a corner's plane runs across the fine one: unless another is undefined
     for (int k = 0; k < 8; ++k) {
         if (((k & 1) && !odd[0]) || ((k >> 1 & 1) && !odd[1]) || ((k >> 2 & 1) && !odd[2])) continue;
         const std::array<std::int64_t, 3> q{first[0] + (k & 1), first[1] + (k >> 1 & 1), first[2] + (k >> 2 & 1)};
@@ -88,20 +88,19 @@ SeamFaces::Found SeamFaces::coarse_value(std::int64_t x, std::int64_t y, std::in
         const auto i = static_cast<std::size_t>(at - c_.corners.begin());
         const std::uint8_t flags = c_.flags[i];
         if (!(flags & SeamCorners::defined)) return Found::undefined;
-        // The coarse edges within the span, from this corner up an odd axis: a rejected crossing
-        // leaves the coarse cube next to the seam unmeshed, and so must the fine one be.
+        // The coarse edges within the span run up an odd axis from a corner with that axis' bit
+        // clear (a face's four edges from its corners 0, 0, 1 and 2): a rejected crossing leaves
+        // the coarse cube next to the seam unmeshed, and so must the fine one be.
         for (int a = 0; a < 3; ++a)
             if (odd[a] && !(k >> a & 1) && (flags >> (1 + a) & 1)) return Found::undefined;
         const std::array<float, 3>& n = c_.normal[i];
         const double along = n[0] * normal[0] + n[1] * normal[1] + n[2] * normal[2];
-        if (std::abs(along) < same_surface_cosine) return Found::off_seam;
+        across = across || std::abs(along) < same_surface_cosine;
         sum += along > 0 ? c_.value[i] : -c_.value[i];
-        ++seen;
     }
-    // A face's four edges: those not from its first corner are checked from their own first
-    // corners above (each edge runs up an odd axis from a corner with that axis' bit clear).
+    if (across) return Found::off_seam;
     value = static_cast<float>(sum / count);
-    return seen == count ? Found::value : Found::undefined;
+    return Found::value;
 }
 
 } // namespace lasmesh

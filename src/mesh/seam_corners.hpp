@@ -48,11 +48,12 @@ class SeamFaces {
     explicit SeamFaces(const SeamCorners& corners);
 
     enum class Found { off_seam, undefined, value };
-    // At fine lattice point (x, y, z) whose fine sample has the plane normal `normal` (unit): off
-    // the seam; on it where the coarse sheet is undefined, rejects a crossing of the edge or face
-    // it lies on, or runs across the fine plane (normals over 60 degrees apart) rather than
-    // along it; else the coarse value, each corner's signed the way the fine normal faces (the
-    // two sheets are oriented each on its own).
+    // At fine lattice point (x, y, z) whose fine sample has the plane normal `normal` (unit):
+    // off_seam off the seam, or on it where the coarse sheet runs across the fine plane (normals
+    // over 60 degrees apart) rather than along it; undefined where the coarse sheet is undefined
+    // or rejects a crossing of the edge or face the point lies on (whatever the normals); else
+    // the coarse value, each corner's signed the way the fine normal faces (the two sheets are
+    // oriented each on its own).
     Found coarse_value(std::int64_t x, std::int64_t y, std::int64_t z, const std::array<double, 3>& normal,
                        float& value) const;
 

@@ -537,12 +537,16 @@ void estimate_tubes(Planes& planes) {
     planes.joins.assign(n, {no_plane, no_plane, no_plane, no_plane});
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
         if (planes.tube[p].radius > 0) return;
-        // The plane of the cell's own points where the grid has their moments (the cells around
-        // it lean toward a dense tube next to it), else its neighbourhood's.
+        // The plane of the cell's own points where the grid has their moments and they are flat
+        // (the cells around lean toward a dense tube next to it), else its neighbourhood's: a
+        // few points, or points along a line, have no plane of their own.
         Vec own = planes.normal[p];
-        if (!planes.scatter.empty()) {
+        if (!planes.scatter.empty() && planes.count[p] >= 3) {
             const std::array<float, 6>& m = planes.scatter[p];
-            own = plane_normal({{{m[0], m[3], m[4]}, {m[3], m[1], m[5]}, {m[4], m[5], m[2]}}});
+            const std::array<std::array<double, 3>, 3> scatter{
+                {{m[0], m[3], m[4]}, {m[3], m[1], m[5]}, {m[4], m[5], m[2]}}};
+            const std::array<double, 3> e = symmetric_eigenvalues(scatter); // largest first
+            if (e[2] < 0.25 * e[1]) own = plane_normal(scatter);
         }
         std::array<std::pair<double, std::uint32_t>, 125> on;
         std::size_t count = 0;

@@ -241,7 +241,7 @@ check "--refine-thin: the summary says how much" contains "$dir/thin.txt" "^thin
 # (a rail's junctions), and a plane's edge is not (its seam would run along the plane, where the
 # two sheets' borders wander apart); the fine sheet takes the coarse one's values on the faces
 # between them, so the two cross them together: on this deck under 75 units of border stay open,
-# and under 55% of it (62 of 127; 101 of 157 with each sheet's own values; the rest: a tube's ring
+# and under 55% of it (64 of 128; 101 of 157 with each sheet's own values; the rest: a tube's ring
 # meeting the coarse sheet, a post's foot on the deck, holes of either sheet), and the mesh stays
 # manifold and oriented.
 check "--refine-thin: the seam joined, little of it open" python3 -c "
