@@ -46,6 +46,22 @@ Edges edges_of(const Mesh& m) {
     return e;
 }
 
+// A joined mesh facing one way, every edge between at most two triangles, and no border left on
+// the plane x = `x` (at least 16 edges there, each shared: two fine edges on each of 8 faces).
+void check_closed_on_plane_x(const Mesh& joined, float x) {
+    const Edges e = edges_of(joined);
+    CHECK(!e.facing_apart);
+    std::size_t on_plane = 0;
+    for (const auto& [edge, uses] : e.uses) {
+        CHECK(uses <= 2);
+        if (joined.positions[edge.first][0] == x && joined.positions[edge.second][0] == x) {
+            ++on_plane;
+            CHECK(uses == 2);
+        }
+    }
+    CHECK(on_plane >= 16);
+}
+
 // Cells of 1, `width` x 8 x 4; the points of the coarse grid's layer 1 at z = 1.5, of the fine
 // grid's layer 3 at z = 1.75: two planes a quarter cell apart, as two meshes of one noisy
 // surface are. The fine mesh is kept in the cells with x < `seam`, the coarse one in the others.
@@ -189,17 +205,7 @@ TEST_CASE("the seam across faces: borders on different cells' faces, half a cell
     CHECK(seam.joined == 1);
     CHECK(seam.open_before == doctest::Approx(16));
     CHECK(seam.open_after == 0);
-    const Edges e = edges_of(joined);
-    CHECK(!e.facing_apart);
-    std::size_t on_plane = 0;
-    for (const auto& [edge, uses] : e.uses) {
-        CHECK(uses <= 2);
-        if (joined.positions[edge.first][0] == 6.0f && joined.positions[edge.second][0] == 6.0f) {
-            ++on_plane;
-            CHECK(uses == 2);
-        }
-    }
-    CHECK(on_plane >= 16);
+    check_closed_on_plane_x(joined, 6.0f);
     for (const auto& p : joined.positions)
         if (p[0] == 6.0f) CHECK(p[2] == doctest::Approx(1.8));
     // Farther apart than half a cell (0.3 + 0.35 more), they are left as they were.
@@ -313,17 +319,7 @@ TEST_CASE("the seam's faces: the fine sheet ends where the coarse one crosses th
     CHECK(seam.joined >= 1);
     CHECK(seam.open_before == doctest::Approx(16));
     CHECK(seam.open_after == 0);
-    const Edges e = edges_of(joined);
-    CHECK(!e.facing_apart);
-    std::size_t on_plane = 0;
-    for (const auto& [edge, uses] : e.uses) {
-        CHECK(uses <= 2);
-        if (joined.positions[edge.first][0] == 6.0f && joined.positions[edge.second][0] == 6.0f) {
-            ++on_plane;
-            CHECK(uses == 2);
-        }
-    }
-    CHECK(on_plane >= 16);
+    check_closed_on_plane_x(joined, 6.0f);
     for (const auto& p : joined.positions)
         if (p[0] == 6.0f) CHECK(p[2] == doctest::Approx(1.7));
 }
