@@ -396,6 +396,48 @@ TEST_CASE("the seam's faces: the coarse values a fine lattice point takes, and w
     CHECK(faces.coarse_value(4, 3, 3, {std::sqrt(1 - c70 * c70), 0, c70}, v) == SeamFaces::Found::off_seam);
 }
 
+TEST_CASE("the seam's faces round an inner corner: an L of refined cells meets the others on two faces and the edge "
+          "between") {
+    // Cells of 1, 4 x 4 x 4; the cells with x < 2 or y < 2 refined (an L in x and y, every z): the
+    // others (x, y >= 2) meet it on the faces x = 2 and y = 2 and along the edge x = y = 2, where
+    // three of the four cells round it are refined. Coarse values z - 1.5 + 0.1 y.
+    std::vector<std::uint64_t> cells;
+    for (std::uint64_t z = 0; z < 4; ++z)
+        for (std::uint64_t y = 0; y < 4; ++y)
+            for (std::uint64_t x = 0; x < 4; ++x)
+                if (x < 2 || y < 2) cells.push_back((z * 4 + y) * 4 + x);
+    SeamCorners c = seam_corners_of(cells, {4, 4, 4});
+    // Every corner but those of the unrefined cells alone (x, y >= 3).
+    REQUIRE(c.corners.size() == 125 - 2 * 2 * 5);
+    for (std::size_t i = 0; i < c.corners.size(); ++i) {
+        const auto p = c.corner_of(c.corners[i]);
+        CHECK(!(p[0] >= 3 && p[1] >= 3));
+        c.value.push_back(static_cast<float>(p[2] - 1.5 + 0.1 * p[1]));
+        c.normal.push_back({0, 0, 1});
+        c.flags.push_back(SeamCorners::defined);
+    }
+    const std::array<double, 3> up{0, 0, 1};
+    const SeamFaces faces(c);
+    float v = 0;
+    // Fine lattice points (half cells). On the inner edge x = y = 2, mid-way up a coarse edge.
+    CHECK(faces.coarse_value(4, 4, 3, up, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(0.2));
+    // ... and at a coarse corner on it.
+    CHECK(faces.coarse_value(4, 4, 2, up, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(1 - 1.5 + 0.2));
+    // On the face x = 2 past the edge (y 2.5), and on the face y = 2 (x 2.5): mid-face.
+    CHECK(faces.coarse_value(4, 5, 3, up, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(0.25));
+    CHECK(faces.coarse_value(5, 4, 3, up, v) == SeamFaces::Found::value);
+    CHECK(v == doctest::Approx(0.2));
+    // On the plane x = 2 but inside the L (y < 2: refined on both sides), and inside the unrefined
+    // cells (x, y 2.5): no seam.
+    CHECK(faces.coarse_value(4, 1, 3, up, v) == SeamFaces::Found::off_seam);
+    CHECK(faces.coarse_value(4, 3, 3, up, v) == SeamFaces::Found::off_seam); // y 1.5: cells (1|2, 1), refined
+    CHECK(faces.coarse_value(5, 5, 3, up, v) == SeamFaces::Found::off_seam);
+    CHECK(faces.coarse_value(6, 6, 2, up, v) == SeamFaces::Found::off_seam); // corner (3, 3, 1): unrefined round it
+}
+
 TEST_CASE("the seam's corners: the coarse sheet's samples there, with the crossings it rejects") {
     // A step: the layer at z 1.5 for x < 6, at z 5.5 from x = 6 on (cells of 1, 12 x 8 x 8). The
     // cells x 5-6 are refined. The corners round the step sample either plane, and where a
