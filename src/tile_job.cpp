@@ -2,14 +2,15 @@
 // run_tile: one tile of a plan. The survey's headers are read as one machine reads them (the
 // same CRS, frame and layout, so the same raw integers and cells), then only the inputs planned
 // for the tile are read, and only their points inside the tile go on to the device, into the
-// plan's grid; of a COPC file, only the chunks (octree nodes) the plan lists for the tile are read.
-// Each point read is checked on the host: one in the grid but in a tile that does not read it lies
-// outside its file's header bounds (or its node's cube), and would be lost: the job stops, naming it.
+// tile's window of the plan's grid; of a COPC file, only the chunks (octree nodes) the plan lists for the tile are
+// read. Each point read is checked on the host: one in the grid but in a tile that does not read it lies outside its
+// file's header bounds (or its node's cube), and would be lost: the job stops, naming it.
 #include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
 #include "byte_order.hpp"
 #include "grid/axis_cells.hpp"
+#include "grid/memory_guard.hpp"
 #include "grid/tile_cells.hpp"
 #include "lasmesh/error.hpp"
 #include "number_text.hpp"
@@ -196,7 +197,20 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
 
     ComputeDevice device(o.device);
     AccumulateOptions accumulate = opened.accumulate;
-    accumulate.spec = plan.grid;
+    // The device accumulates the tile's window of the plan's grid (all of z): its brick index
+    // follows the tile, not the survey, whose index a survey of 4,096 cells square would make
+    // gigabytes. The window's cells start on the plan's raw integers, and its bricks are the
+    // grid's bricks, renumbered below.
+    const std::array<std::uint32_t, 3> first{tile.x_cells[0], tile.y_cells[0], 0};
+    GridSpec window = plan.grid;
+    window.dims = {tile.x_cells[1] - tile.x_cells[0], tile.y_cells[1] - tile.y_cells[0], plan.grid.dims[2]};
+    std::array<AxisCells, 3> window_axes;
+    for (int a = 0; a < 3; ++a) {
+        window.origin[a] = plan.grid.origin[a] + first[a] * plan.grid.cell_size; // for the record only
+        const std::vector<std::int64_t>& starts = locate.axes[a].starts;
+        window_axes[a].starts.assign(starts.begin() + first[a], starts.begin() + first[a] + window.dims[a] + 1);
+    }
+    accumulate.spec = window, accumulate.axes = window_axes;
     if (o.slice_bytes == 0) accumulate.slice_bytes = tile_slice_bytes;
     accumulate.memory_in_use = resident_bytes();
     SurveyReader reader(part, single);
@@ -208,7 +222,16 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     accumulate.on_slice = [&](std::uint64_t points) {
         watch.points_read(points, part.header.point_count, reader.bytes_read(), reader.bytes_total());
     };
-    const CellGrid grid = accumulate_cells(reader, device, accumulate);
+    CellGrid grid = accumulate_cells(reader, device, accumulate);
+    // The window's bricks as the plan's grid numbers them: the same order (z, then y, then x).
+    const std::array<std::uint32_t, 3> bricks = brick_dims(plan.grid), window_bricks = grid.bricks;
+    for (std::uint64_t& key : grid.brick_keys) {
+        const std::uint64_t x = key % window_bricks[0], y = key / window_bricks[0] % window_bricks[1],
+                            z = key / window_bricks[0] / window_bricks[1];
+        key = (z * bricks[1] + y + first[1] / CellGrid::brick_size) * bricks[0] + x + first[0] / CellGrid::brick_size;
+    }
+    grid.spec = plan.grid, grid.bricks = bricks, grid.axes = locate.axes;
+    grid.index_bricks();
 
     // Only the tile's points reached the device: its bricks are the grid's (a tile's cells start
     // and end on bricks), written in key order, each brick's cells after the last's.

@@ -136,3 +136,47 @@ TEST_CASE("a tile's cells: whole bricks; a plan's tiles rounded again to a coars
             }
         }
 }
+
+TEST_CASE("a tile job's brick index covers its tile, not the survey: a wide survey's tile runs in memory for its own "
+          "cells") {
+    // Two small clusters 40 m apart at 1 cm cells: the plan's grid is 4,001 x 4,001 x 201 cells,
+    // whose brick index alone takes 204 MB; a tile of 10 m, 13 MB.
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i < 2000; ++i) {
+        const double u = 0.001 * (i % 50), v = 0.001 * (i / 50);
+        points.push_back({{1 + u, 1 + v, 1}, {200, 100, 50}, 1});
+        points.push_back({{39 + u, 39 + v, 1.5}, {50, 100, 200}, 1});
+    }
+    const std::string input = dir.file("wide.las");
+    test::write_file(input, test::las_with_points(points, {0, 0, 0}, {40, 40, 2}));
+    BuildOptions options;
+    options.grid = GridRequest::cell_edge(0.01);
+    TilePlan plan = plan_tiles({input}, options, 10);
+    write_plan(plan, dir.file("wide.plan.json"));
+    REQUIRE(plan.grid.dims[0] == 4001);
+    REQUIRE(plan.tiles.size() == 25);
+    const std::uint64_t survey_index = (4004 / 4) * (4004 / 4) * (204 / 4) * 4;
+    CHECK(survey_index > 200'000'000);
+    // Room for the tile's index and slices, not for the survey's index.
+    BuildOptions tight = options;
+    tight.max_memory = resident_bytes() + 100'000'000;
+    const TileReport first = run_tile(plan, 0, tight);
+    CHECK(first.points_in_tile == 2000);
+    std::size_t far = 0; // the tile of the cluster at 39 m: cell 3,900 or so
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k)
+        if (plan.tiles[k].x_cells[0] <= 3900 && plan.tiles[k].x_cells[1] > 3900 && plan.tiles[k].y_cells[0] <= 3900 &&
+            plan.tiles[k].y_cells[1] > 3900)
+            far = k;
+    REQUIRE(far > 0);
+    const TileReport last = run_tile(plan, far, tight);
+    CHECK(last.points_in_tile == 2000);
+    // Its bricks are numbered as the plan's grid numbers them: they lie past x and y 3,896 cells.
+    const TileCells cells = read_tile_cells(last.path);
+    REQUIRE(!cells.brick_keys.empty());
+    const std::uint64_t bricks_x = 4004 / 4, bricks_y = 4004 / 4;
+    for (const std::uint64_t key : cells.brick_keys) {
+        CHECK(key % bricks_x * 4 >= 3896);
+        CHECK(key / bricks_x % bricks_y * 4 >= 3896);
+    }
+}

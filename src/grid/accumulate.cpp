@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 
 namespace lasmesh {
 
@@ -119,7 +120,12 @@ class DeviceAccumulation {
         limits_ = {dev_.info.global_memory, max_alloc_, options_.max_memory,
                    options_.max_memory ? options_.memory_in_use : 0};
         check_index_memory(header_, options_, out_.spec, slice_bytes_, limits_);
-        for (int a = 0; a < 3; ++a) out_.axes[a] = axis_cells(out_.spec, a, header_.scale[a], header_.offset[a]);
+        for (int a = 0; a < 3; ++a) {
+            out_.axes[a] =
+                options_.axes ? (*options_.axes)[a] : axis_cells(out_.spec, a, header_.scale[a], header_.offset[a]);
+            if (out_.axes[a].starts.size() != std::size_t{out_.spec.dims[a]} + 1)
+                throw std::logic_error("accumulate_cells: the cell starts given do not match the grid");
+        }
         brick_bytes_ = brick_device_bytes(color_);
         moment_lanes_ = moment_lanes(out_.axes);
         carry_slots_ = carry_capacity(reader_.records_left(), 2 * slice_records_, out_.axes, moment_lanes_, color_);

@@ -25,8 +25,12 @@ using Rgb8 = std::array<std::uint8_t, 3>;
 
 struct AccumulateOptions {
     GridRequest grid;
-    std::optional<Bounds> bounds;    // default: the header bounds
-    std::optional<GridSpec> spec;    // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
+    std::optional<Bounds> bounds; // default: the header bounds
+    std::optional<GridSpec> spec; // this exact grid instead of `grid` over `bounds` (a lattice shared by runs)
+    // With `spec`: its cells' starts in raw integers, given rather than worked out from it. A
+    // window of a larger grid (a tile job's tile) takes that grid's own starts, so its points fall
+    // in the cells they fall in there, and its brick index covers the window, not the survey.
+    std::optional<std::array<AxisCells, 3>> axes;
     std::uint64_t slice_bytes = 0;   // upper limit on one upload; 0: 16 MiB
     std::uint64_t max_memory = 0;    // host and device together; 0: no limit of ours
     std::uint64_t memory_in_use = 0; // resident before accumulating, counted against max_memory
