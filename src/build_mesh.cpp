@@ -516,12 +516,18 @@ std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid
         r.thin_unrefined = "no thin parts found";
         return std::nullopt;
     }
+    GridSpec fine = grid.spec;
+    for (std::uint32_t& d : fine.dims) d *= 2;
     for (const std::uint32_t d : grid.spec.dims)
         if (std::uint64_t{d} * 2 > max_grid_cells) {
             r.thin_unrefined =
                 "half the cell would take more than " + std::to_string(max_grid_cells) + " cells an axis";
             return std::nullopt;
         }
+    if (!within_brick_numbers(fine)) {
+        r.thin_unrefined = "half the cell would take more than " + std::to_string(max_grid_bricks) + " bricks";
+        return std::nullopt;
+    }
     const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
     plan.mesh_cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
     plan.read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);

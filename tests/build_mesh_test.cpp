@@ -442,3 +442,34 @@ TEST_CASE("accumulate_inputs, then build_mesh of it: the bytes of one build_mesh
     }
     CHECK(!std::filesystem::exists(f.dir.file("x.ply")));
 }
+
+TEST_CASE("build_mesh: a grid longer than 4,096 cells (a 45 m strip at 1 cm): meshed along its whole length, on its "
+          "plane") {
+    // A strip 45 m by 5 cm at z 0.05, 8 points a square centimetre: 4,501 cells along x.
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    for (int i = 0; i < 4500 * 5 * 8; ++i) {
+        const double x = 0.01 * (i / 40) + 0.0025 * (i % 4), y = 0.001 * (i % 40) + 0.005;
+        points.push_back({{x, y, 0.05}, {120, 120, 120}, 1});
+    }
+    const std::string input = dir.file("strip.las");
+    test::write_file(input, test::las_with_points(points, {0, 0, 0}, {45, 0.05, 0.1}, 8, 3, 0.0001));
+    BuildOptions options;
+    options.grid = GridRequest::cell_edge(0.01);
+    options.keep_mesh = true;
+    options.refine_thin = ThinRefinement::never;
+    const BuildResult result = build_mesh(input, options);
+    CHECK(result.report.grid.dims[0] > 4096);
+    REQUIRE(result.mesh);
+    const Mesh& m = *result.mesh;
+    REQUIRE(!m.positions.empty());
+    double low = 1e9, high = -1e9, off = 0;
+    for (const auto& p : m.positions) {
+        const double x = p[0] + m.origin[0], z = p[2] + m.origin[2];
+        low = std::min(low, x), high = std::max(high, x);
+        off = std::max(off, std::abs(z - 0.05));
+    }
+    CHECK(low < 0.02);
+    CHECK(high > 44.98);
+    CHECK(off < 0.002);
+}

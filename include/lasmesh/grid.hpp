@@ -44,9 +44,13 @@ struct GridSpec {
     std::uint64_t cell_count() const { return std::uint64_t{dims[0]} * dims[1] * dims[2]; }
 };
 
-// The most cells along one axis: the device's brick index and its 32-bit brick numbers hold 4096^3
-// cells at most.
-constexpr std::uint32_t max_grid_cells = 4096;
+// The most cells along one axis, and the most bricks (4 x 4 x 4 cells) in all: the device numbers
+// bricks in 32 bits, and its brick index holds a word for each brick of the grid's volume, so
+// the limit that bites first is usually that index's memory (checked as the grid is made).
+constexpr std::uint32_t max_grid_cells = 16384;
+constexpr std::uint64_t max_grid_bricks = std::uint64_t{1} << 31;
+// Whether `grid` numbers its bricks within max_grid_bricks.
+bool within_brick_numbers(const GridSpec& grid);
 
 // Covers `bounds` with cubic cells as requested, the bounds centred with at least half a cell to
 // spare on every side (so points on the bounds, such as a flat scan's plane, lie inside cells):

@@ -77,12 +77,23 @@ GridSpec make_grid_spec(const Bounds& bounds, const GridRequest& request) {
         }
         grid.origin[a] = bounds.min[a] - (grid.dims[a] * grid.cell_size - extent[a]) / 2;
     }
+    if (!within_brick_numbers(grid))
+        usage_error("the grid " + std::to_string(grid.dims[0]) + " x " + std::to_string(grid.dims[1]) + " x " +
+                        std::to_string(grid.dims[2]) + " would hold more than " + std::to_string(max_grid_bricks) +
+                        " bricks of 4 x 4 x 4 cells; use larger cells, or fewer",
+                    "grid");
     return grid;
 }
 
 std::int64_t AxisCells::cell_of(std::int64_t raw) const {
     if (raw < starts.front() || raw >= starts.back()) return -1;
     return std::upper_bound(starts.begin(), starts.end(), raw) - starts.begin() - 1;
+}
+
+bool within_brick_numbers(const GridSpec& grid) {
+    std::uint64_t bricks = 1;
+    for (const std::uint32_t d : grid.dims) bricks *= (std::uint64_t{d} + 3) / 4;
+    return bricks <= max_grid_bricks;
 }
 
 AxisCells axis_cells(const GridSpec& grid, int axis, double scale, double offset) {

@@ -43,7 +43,8 @@ class RecordsInCells {
     // The cell of `record` along each axis; false outside the grid.
     static bool cell_of(const std::byte* record, const std::array<Axis, 3>& axes, std::array<std::uint64_t, 3>& cell);
 
-    std::array<std::vector<std::uint16_t>, 3> runs_; // max_grid_cells fit in 16 bits
+    static_assert(max_grid_cells <= 65535, "a run's cell is kept in 16 bits");
+    std::array<std::vector<std::uint16_t>, 3> runs_;
     std::array<Axis, 3> axes_;
     const CellSet* cells_;
     std::size_t length_;

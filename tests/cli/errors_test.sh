@@ -111,7 +111,8 @@ expect "grid too large for memory" 1 'cells would fit (--grid ' "$L ok.las --gri
 check "a grid far too fine for the points is coarsened, not refused (exit $rc)" test "$rc" -eq 0 -a -s fine.ply
 check "... and the note says so" grep -qF "note: the grid asked for, 2048 x 2048 x 2048 cells, is too fine for these points" err.txt
 check "... and the grid line too" grep -qF "(128 times coarser than the 2048 x 2048 x 2048 asked for, too fine)" err.txt
-expect "a grid past 4096 cells an axis" 1 '--grid "4097": expected N or NXxNYxNZ with whole numbers from 1 to 4096' "$L ok.las --grid 4097"
+expect "a grid past 16384 cells an axis" 1 '--grid "16385": expected N or NXxNYxNZ with whole numbers from 1 to 16384' "$L ok.las --grid 16385"
+expect "a grid of too many bricks" 1 'would hold more than 2147483648 bricks of 4 x 4 x 4 cells; use larger cells, or fewer' "$L ok.las --grid 16384"
 expect "over --max-memory" 1 'does not fit' "$L ok.las --grid 2048 --max-memory 64"
 expect "no OpenCL platform" 3 'no OpenCL platform found: install one, e.g. `apt-get install pocl-opencl-icd`' \
   "OCL_ICD_VENDORS=$dir/folder $L ok.las"
@@ -273,7 +274,7 @@ expect "truncated zstd" 2 'truncated.las.zst: corrupt or truncated zstd stream' 
 bzip2 -c ok.las > ok.las.bz2
 python3 -c 'd = bytearray(open("ok.las.bz2", "rb").read()); d[20] ^= 0xFF; open("corrupt.las.bz2", "wb").write(d)'
 expect "corrupt bzip2" 2 'corrupt.las.bz2: corrupt or truncated bzip2 stream' "$L corrupt.las.bz2"
-expect "--voxel 1e-300: short numbers" 1 'the grid would need 1e+301 cells along one axis, more than 4096' "$L ok.las --voxel 1e-300"
+expect "--voxel 1e-300: short numbers" 1 'the grid would need 1e+301 cells along one axis, more than 16384' "$L ok.las --voxel 1e-300"
 check "--voxel 1e-300: no 300-digit number" test "$(wc -c < err.txt)" -lt 200
 expect "--chunk-mb 0" 1 'expected a positive number, got "0"' "$L ok.las --chunk-mb 0"
 check "--chunk-mb 0: no DBL_MAX" test -z "$(grep -F 'e+308' err.txt)"
