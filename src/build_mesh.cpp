@@ -509,6 +509,11 @@ struct RecordedObserver : BuildObserver {
 // The second read's largest upload to the device when the options leave it open.
 constexpr std::uint64_t thin_read_slice_bytes = 4ull << 20;
 
+// The second read's grid of half the cell spans the whole survey, and its brick index a word
+// for every brick of that volume: at 4,096 cells an axis at most (a 4 GB index for a cube), the
+// thin parts of larger grids are not refined rather than the run stopped for want of memory.
+constexpr std::uint32_t max_thin_grid_cells = 4096;
+
 std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid& grid, RunReport& r) {
     ThinReadPlan plan;
     const std::vector<std::array<std::int64_t, 3>> thin_at = thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid));
@@ -516,18 +521,12 @@ std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid
         r.thin_unrefined = "no thin parts found";
         return std::nullopt;
     }
-    GridSpec fine = grid.spec;
-    for (std::uint32_t& d : fine.dims) d *= 2;
     for (const std::uint32_t d : grid.spec.dims)
-        if (std::uint64_t{d} * 2 > max_grid_cells) {
+        if (std::uint64_t{d} * 2 > max_thin_grid_cells) {
             r.thin_unrefined =
-                "half the cell would take more than " + std::to_string(max_grid_cells) + " cells an axis";
+                "half the cell would take more than " + std::to_string(max_thin_grid_cells) + " cells an axis";
             return std::nullopt;
         }
-    if (!within_brick_numbers(fine)) {
-        r.thin_unrefined = "half the cell would take more than " + std::to_string(max_grid_bricks) + " bricks";
-        return std::nullopt;
-    }
     const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
     plan.mesh_cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
     plan.read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);

@@ -222,7 +222,23 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     accumulate.on_slice = [&](std::uint64_t points) {
         watch.points_read(points, part.header.point_count, reader.bytes_read(), reader.bytes_total());
     };
-    CellGrid grid = accumulate_cells(reader, device, accumulate);
+    CellGrid grid;
+    try {
+        grid = accumulate_cells(reader, device, accumulate);
+    } catch (const Error& e) {
+        if (e.option() != "grid") throw;
+        // Said of the window, a grid that would fit is no advice for a tile job (it has no grid
+        // to ask for): the plan's cells or tiles, or the job's memory, are what can change.
+        std::string why = e.what();
+        for (const char* tail : {"; a grid of ", " (nothing was written)"})
+            if (const std::size_t at = why.find(tail); at != std::string::npos) why.resize(at);
+        throw Error(ErrorKind::usage,
+                    "tile " + std::to_string(index) + " of " + plan.path + " (" + dims_text(window) +
+                        " cells of the plan's " + dims_text(plan.grid) + "): " + why +
+                        "; plan again with larger cells or smaller tiles, or let the job use more memory "
+                        "(nothing was written)",
+                    "max_memory");
+    }
     // The window's bricks as the plan's grid numbers them: the same order (z, then y, then x).
     const std::array<std::uint32_t, 3> bricks = brick_dims(plan.grid), window_bricks = grid.bricks;
     for (std::uint64_t& key : grid.brick_keys) {

@@ -158,7 +158,9 @@ TEST_CASE("a tile job's brick index covers its tile, not the survey: a wide surv
     REQUIRE(plan.tiles.size() == 25);
     const std::uint64_t survey_index = (4004 / 4) * (4004 / 4) * (204 / 4) * 4;
     CHECK(survey_index > 200'000'000);
-    // Room for the tile's index and slices, not for the survey's index.
+    // Room for the tile's index and slices, not for the survey's index (the device and its
+    // runtime made first, by a tile run without a limit, so that they are counted in use).
+    run_tile(plan, 1, options);
     BuildOptions tight = options;
     tight.max_memory = resident_bytes() + 100'000'000;
     const TileReport first = run_tile(plan, 0, tight);
@@ -171,6 +173,22 @@ TEST_CASE("a tile job's brick index covers its tile, not the survey: a wide surv
     REQUIRE(far > 0);
     const TileReport last = run_tile(plan, far, tight);
     CHECK(last.points_in_tile == 2000);
+    // Too little room even for the tile: the error names the tile and the plan's grid, and gives
+    // no grid to ask for (a tile job has none).
+    BuildOptions tighter = options;
+    tighter.max_memory = resident_bytes() + 1'000'000;
+    const std::string refused = test::error_text([&] { run_tile(plan, 0, tighter); });
+    CHECK(contains(refused, "tile 0 of " + plan.path + " (1000x1000x201 cells of the plan's 4001x4001x201): "));
+    CHECK(contains(refused, "plan again with larger cells or smaller tiles, or let the job use more memory"));
+    CHECK(!contains(refused, "a grid of"));
+    // A plan whose grid no grid may be (edited by hand): refused when read.
+    std::string text;
+    for (const std::byte b : test::read_file(dir.file("wide.plan.json"))) text.push_back(static_cast<char>(b));
+    for (std::size_t at = text.find("4001"); at != std::string::npos; at = text.find("4001", at + 5))
+        text.replace(at, 4, "40001");
+    std::ofstream(dir.file("edited.plan.json")) << text;
+    CHECK(contains(error_text([&] { read_plan(dir.file("edited.plan.json")); }),
+                   "its grid of 40001 x 40001 x 201 cells is not one a plan can have"));
     // Its bricks are numbered as the plan's grid numbers them: they lie past x and y 3,896 cells.
     const TileCells cells = read_tile_cells(last.path);
     REQUIRE(!cells.brick_keys.empty());

@@ -46,7 +46,8 @@ struct GridSpec {
 
 // The most cells along one axis, and the most bricks (4 x 4 x 4 cells) in all: the device numbers
 // bricks in 32 bits, and its brick index holds a word for each brick of the grid's volume, so
-// the limit that bites first is usually that index's memory (checked as the grid is made).
+// the limit that bites first is usually that index's memory (checked before the points are
+// accumulated).
 constexpr std::uint32_t max_grid_cells = 16384;
 constexpr std::uint64_t max_grid_bricks = std::uint64_t{1} << 31;
 // Whether `grid` numbers its bricks within max_grid_bricks.
