@@ -198,8 +198,8 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     ComputeDevice device(o.device);
     AccumulateOptions accumulate = opened.accumulate;
     // The device accumulates the tile's window of the plan's grid (all of z): its brick index
-    // follows the tile, not the survey, whose index a survey of 4,096 cells square would make
-    // gigabytes. The window's cells start on the plan's raw integers, and its bricks are the
+    // follows the tile, not the survey (a survey 4,096 cells square and 256 high has a 268 MB
+    // index). The window's cells start on the plan's raw integers, and its bricks are the
     // grid's bricks, renumbered below.
     const std::array<std::uint32_t, 3> first{tile.x_cells[0], tile.y_cells[0], 0};
     GridSpec window = plan.grid;

@@ -245,13 +245,14 @@ TilePlan read_plan(const std::string& path) {
         plan.grid.origin = json.at("grid").at("origin").get<Vec3>();
         plan.grid.cell_size = json.at("grid").at("cell_size").get<double>();
         plan.grid.dims = json.at("grid").at("dims").get<std::array<std::uint32_t, 3>>();
-        for (const std::uint32_t d : plan.grid.dims)
-            if (d == 0 || d > max_grid_cells || !within_brick_numbers(plan.grid))
-                throw_input_error(
-                    path, "its grid of " + std::to_string(plan.grid.dims[0]) + " x " +
-                              std::to_string(plan.grid.dims[1]) + " x " + std::to_string(plan.grid.dims[2]) +
-                              " cells is not one a plan can have (1 to " + std::to_string(max_grid_cells) +
-                              " cells an axis, at most " + std::to_string(max_grid_bricks) + " bricks): plan again");
+        const auto& d = plan.grid.dims;
+        if (std::min({d[0], d[1], d[2]}) == 0 || std::max({d[0], d[1], d[2]}) > max_grid_cells ||
+            !within_brick_numbers(plan.grid))
+            throw_input_error(path, "its grid of " + std::to_string(plan.grid.dims[0]) + " x " +
+                                        std::to_string(plan.grid.dims[1]) + " x " + std::to_string(plan.grid.dims[2]) +
+                                        " cells is not one a plan can have (1 to " + std::to_string(max_grid_cells) +
+                                        " cells an axis, at most " + std::to_string(max_grid_bricks) +
+                                        " bricks): plan again");
         plan.unit = json.at("unit").get<std::string>();
         plan.tile_size = json.at("tile").at("size").get<double>();
         plan.tile_cells = json.at("tile").at("cells").get<std::uint32_t>();
