@@ -26,12 +26,11 @@ namespace {
 
 // A wavy sheet of 40 x 30 vertices, 0.25 m apart at UTM-like coordinates, coloured and with
 // normals, and one vertex no triangle uses (the page leaves it out).
-Mesh wavy_sheet() {
+Mesh wavy_sheet(int nx = 40, int ny = 30) {
     Mesh m;
     m.origin = {431250.125, 6700200.375, 12.5};
     m.cell_size = 0.25;
     m.crs = "EPSG:32631";
-    const int nx = 40, ny = 30;
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const float z = static_cast<float>(0.7 * std::sin(i * 0.3) * std::cos(j * 0.2));
@@ -201,4 +200,65 @@ TEST_CASE(
     Mesh empty = mesh;
     empty.triangles.clear();
     CHECK_THROWS_AS(encode_html(empty, options), Error);
+}
+
+TEST_CASE("html page: lighter copies for moving, on the page's vertices, each a quarter of the one before") {
+    struct Levels {
+        std::vector<std::array<std::int32_t, 3>> positions;
+        std::vector<std::vector<unsigned int>> levels;
+    };
+    const auto levels_of = [](const Mesh& mesh) {
+        const std::string data = encode_html_mesh(mesh, HtmlOptions{});
+        const std::uint32_t header_length = u32_at(data, 8);
+        const nlohmann::json header = nlohmann::json::parse(data.substr(12, header_length));
+        const std::size_t start = (12 + header_length + 3) / 4 * 4, vertices = header["vertices"];
+        const auto buffer = [&](const std::string& name) {
+            const auto& b = header["buffers"][name];
+            return data.substr(start + b["offset"].get<std::size_t>(), b["length"].get<std::size_t>());
+        };
+        Levels out;
+        out.positions.resize(vertices);
+        const std::string positions = buffer("positions");
+        REQUIRE(meshopt_decodeVertexBuffer(out.positions.data(), vertices, 12,
+                                           reinterpret_cast<const unsigned char*>(positions.data()),
+                                           positions.size()) == 0);
+        for (const auto& level : header["motion"]) {
+            const std::string bytes = buffer(level["buffer"].get<std::string>());
+            std::vector<unsigned int> indices(3 * level["triangles"].get<std::size_t>());
+            REQUIRE(meshopt_decodeIndexBuffer(indices.data(), indices.size(), 4,
+                                              reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()) == 0);
+            for (unsigned int v : indices) REQUIRE(v < vertices);
+            out.levels.push_back(std::move(indices));
+        }
+        return out;
+    };
+    const Mesh mesh = wavy_sheet(160, 120); // 37,842 triangles over 39.75 x 29.75 units
+    const Levels page = levels_of(mesh);
+    REQUIRE(page.levels.size() == 3);
+    std::size_t finer = mesh.triangles.size();
+    for (const auto& level : page.levels) {
+        const std::size_t triangles = level.size() / 3;
+        CHECK(triangles <= finer / 4 + finer / 8);
+        CHECK(triangles >= finer / 8);
+        finer = triangles;
+        int degenerate = 0;
+        std::array<double, 2> low{1e300, 1e300}, high{-1e300, -1e300};
+        for (std::size_t t = 0; t < level.size(); t += 3)
+            degenerate += level[t] == level[t + 1] || level[t + 1] == level[t + 2] || level[t] == level[t + 2];
+        for (unsigned int v : level)
+            for (int a = 0; a < 2; ++a) {
+                low[a] = std::min(low[a], double(page.positions[v][a]));
+                high[a] = std::max(high[a], double(page.positions[v][a]));
+            }
+        CHECK(degenerate == 0);
+        // The whole sheet, not a part of it: its corners are kept.
+        const double step = 39.75 / double(high[0] - low[0]);
+        CHECK((high[1] - low[1]) * step == doctest::Approx(29.75).epsilon(0.001));
+        CHECK(step <= 1e-4);
+    }
+    CHECK(page.levels.back().size() / 3 <= 1000);
+    CHECK(page.levels[page.levels.size() - 2].size() / 3 > 1000);
+    const Levels again = levels_of(mesh); // the same bytes
+    CHECK((again.positions == page.positions && again.levels == page.levels));
+    CHECK(levels_of(wavy_sheet(23, 23)).levels.empty()); // 968 triangles: drawn whole
 }

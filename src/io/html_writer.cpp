@@ -60,6 +60,36 @@ std::string encode_vertices(const std::vector<T>& values) {
     return out;
 }
 
+// Lighter copies of the mesh that the page draws while the camera moves, when drawing the whole
+// of it would not keep up (a software renderer, a weak GPU): each a quarter of the one before,
+// down to the first of at most `smallest_motion_triangles`. They are triangles on the page's own
+// vertices (meshoptimizer's edge collapses keep a subset of them; its vertex clustering where
+// those stop short of the quarter), so each costs only its indices. Level of detail while moving
+// is what desktop viewers do (VTK's LOD actors, ParaView's interactive decimation).
+constexpr std::size_t smallest_motion_triangles = 1000;
+
+std::vector<std::vector<unsigned int>> motion_levels(const std::vector<unsigned int>& indices,
+                                                     const std::vector<std::array<float, 3>>& positions) {
+    std::vector<std::vector<unsigned int>> levels;
+    const std::vector<unsigned int>* finer = &indices;
+    while (finer->size() / 3 > smallest_motion_triangles) {
+        const std::size_t target = finer->size() / 12 * 3;
+        std::vector<unsigned int> level(finer->size());
+        const float anywhere = 1.0f; // no bound on the error (relative to the mesh's extent): the count decides
+        std::size_t kept = meshopt_simplify(level.data(), finer->data(), finer->size(), positions[0].data(),
+                                            positions.size(), sizeof(positions[0]), target, anywhere);
+        if (kept > target + target / 2)
+            kept = meshopt_simplifySloppy(level.data(), finer->data(), finer->size(), positions[0].data(),
+                                          positions.size(), sizeof(positions[0]), target, anywhere);
+        if (kept == 0 || kept >= finer->size()) break;
+        level.resize(kept);
+        meshopt_optimizeVertexCache(level.data(), level.data(), kept, positions.size());
+        levels.push_back(std::move(level));
+        finer = &levels.back();
+    }
+    return levels;
+}
+
 // Removes the timings from a run's facts, at any depth ("seconds", "read_seconds", ...): they
 // change from run to run, and would change the page's bytes.
 void drop_timings(Json& facts) {
@@ -136,6 +166,18 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
     encoded_indices.resize(meshopt_encodeIndexBuffer(reinterpret_cast<unsigned char*>(encoded_indices.data()),
                                                      encoded_indices.size(), indices.data(), index_count));
     add("indices", encoded_indices);
+    std::vector<std::array<float, 3>> at(vertices); // where the simplifier sees the vertices
+    for (std::size_t v = 0; v < vertices; ++v)
+        for (int a = 0; a < 3; ++a) at[v][a] = static_cast<float>(positions[v][a] * step);
+    Json motion = Json::array();
+    for (const auto& level : motion_levels(indices, at)) {
+        std::string encoded(meshopt_encodeIndexBufferBound(level.size(), vertices), '\0');
+        encoded.resize(meshopt_encodeIndexBuffer(reinterpret_cast<unsigned char*>(encoded.data()), encoded.size(),
+                                                 level.data(), level.size()));
+        const std::string name = "motion_" + std::to_string(motion.size() + 1);
+        add(name, encoded);
+        motion.push_back({{"buffer", name}, {"triangles", level.size() / 3}});
+    }
 
     Json header = {{"name", utf8_or_latin1(options.name)},
                    {"vertices", vertices},
@@ -144,7 +186,8 @@ std::string encode_html_mesh(const Mesh& mesh, const HtmlOptions& options) {
                    {"step", step},
                    {"cell_size", mesh.cell_size},
                    {"crs", mesh.crs},
-                   {"buffers", layout}};
+                   {"buffers", layout},
+                   {"motion", motion}};
     if (heat) header["heat_scale"] = options.heat_scale;
     Json facts = options.facts_json.empty() ? Json() : Json::parse(options.facts_json);
     if (facts.is_object()) { // what changes from run to run would change the page's bytes

@@ -6,7 +6,8 @@
 // flat colours averages the mesh's own colours (the topmost surface's over a plan lattice, as
 // ply_facts.py gives them; the pixels inside the drawn mesh, not those blended with the background
 // at its outline and holes) to within 3/255; with a heat map, the heat-map PLY's colours the same
-// way (5/255).
+// way (5/255); while the camera moves, it draws lighter copies of the mesh where the whole one is
+// too slow, and the whole mesh once still.
 // Prints "ok - ..." or "not ok - ..." a check; exits 1 if any failed, 77 if it cannot run here.
 //
 // Usage: node html_page.js MODULES PAGE.html EXPECTED.json [--screenshot FILE.png] [--heat HEAT.json]
@@ -103,6 +104,42 @@ const tally = checks(), check = tally.check;
       check("and shows it", text.includes(measured.distance.toFixed(3)), text);
     }
     if (screenshot) await page.screenshot({ path: screenshot }); // with the measurement
+
+    // While the camera moves: lighter copies of the mesh on its vertices, each a quarter of the
+    // one before down to at most 1,000 triangles, drawn (at a fraction of the resolution) when the
+    // whole mesh is too slow; a quarter second after the last move, the whole mesh again.
+    const ways = await page.evaluate(() => window.lasmesh.movingWays());
+    const sizes = [...new Set(ways.map((w) => w.triangles))];
+    const quartered = sizes.every((n, k) => k === 0 || (n <= (sizes[k - 1] / 4) * 1.5 && n > 0));
+    check(`lighter copies for moving: ${sizes.join(", ")} triangles`, sizes[0] === expected.triangles && sizes.length >= 2 &&
+      quartered && sizes[sizes.length - 1] <= 1000 && (sizes.length < 3 || sizes[sizes.length - 2] > 1000), JSON.stringify(ways));
+    const orbitFrames = (n) => page.evaluate(async (n) => {
+      for (let i = 0; i < n; i++) {
+        window.lasmesh.orbitBy(0.002);
+        await new Promise((r) => requestAnimationFrame(() => r()));
+      }
+      return { drawn: window.lasmesh.trianglesDrawn(), width: window.lasmesh.canvas.width, moving: window.lasmesh.moving };
+    }, n);
+    const stillFrame = () => page.evaluate(() => new Promise((r) => setTimeout(() => r({ drawn: window.lasmesh.trianglesDrawn(),
+      width: window.lasmesh.canvas.width }), 600)));
+    await page.evaluate(() => { window.lasmesh.setFlat(false); window.lasmesh.setMovingBudget(Infinity); });
+    const fast = await orbitFrames(12);
+    check("a renderer that keeps up draws the whole mesh while moving", fast.drawn === expected.triangles &&
+      fast.width === 1200 && fast.moving.triangles === expected.triangles, JSON.stringify(fast));
+    await page.evaluate(() => window.lasmesh.setMovingBudget(0)); // every frame too slow
+    const slowest = await orbitFrames(8 * ways.length);
+    const lightest = ways[ways.length - 1];
+    const lightFrame = await frame();
+    check(`one that does not steps down to the lightest (${lightest.triangles} triangles at ${lightest.scale} of the resolution, ` +
+      `${(100 * lightFrame.covered).toFixed(1)}% of the frame)`, slowest.drawn === lightest.triangles &&
+      slowest.width === 1200 * lightest.scale && lightFrame.covered > 0.05, JSON.stringify(slowest));
+    const settled = await stillFrame();
+    const settledFrame = await frame();
+    check("and draws the whole mesh at full resolution once still", settled.drawn === expected.triangles && settled.width === 1200 &&
+      settledFrame.covered > 0.05, JSON.stringify(settled));
+    const shownMoving = await page.evaluate(() => document.getElementById("moving").textContent);
+    check(`says so ("while moving: ${shownMoving}")`, shownMoving.startsWith(lightest.triangles.toLocaleString("en")), shownMoving);
+    await page.evaluate(() => { window.lasmesh.setMovingBudget(20); window.lasmesh.setMovingWay(0); });
 
     // Colours: from above, flat.
     await page.click("#measure");

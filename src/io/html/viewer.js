@@ -56,7 +56,14 @@ async function readMesh(compressed) {
   const heatDistance = decode("heat_distance", 4, Float32Array); // to the nearest point
   const indices = new Uint32Array(3 * header.triangles);
   MeshoptDecoder.decodeIndexBuffer(new Uint8Array(indices.buffer), indices.length, 4, part("indices"));
-  return { header, quantized, colors, normals, indices, heatColors, heatDistance };
+  // Lighter copies on the same vertices, each a quarter of the one before: drawn while the camera
+  // moves when the whole mesh cannot keep up.
+  const motion = (header.motion || []).map(({ buffer, triangles }) => {
+    const level = new Uint32Array(3 * triangles);
+    MeshoptDecoder.decodeIndexBuffer(new Uint8Array(level.buffer), level.length, 4, part(buffer));
+    return level;
+  });
+  return { header, quantized, colors, normals, indices, motion, heatColors, heatDistance };
 }
 
 // sRGB bytes to linear values (IEC 61966-2-1), as three.js expects vertex colours.
@@ -137,12 +144,70 @@ async function main() {
   scene.add(camera);
   const controls = new OrbitControls(camera, renderer.domElement);
   const render = () => renderer.render(scene, camera);
-  controls.addEventListener("change", render);
 
   // What the mesh shown sets: replaced by show() when `lasmesh view` sends another.
   let decoded, header, unit = "units", number = (x) => x.toFixed(3);
   let geometry = mesh.geometry, box, sphere, radius = 1, own = null, heat = null, hasColors = false;
   let heatOn = false;
+
+  // Moving the camera. While the user drags, wheels or orbits, each frame is drawn at the next
+  // animation frame, in the first of these ways that keeps the frames coming at 50 a second or
+  // more: the whole mesh at the screen's resolution, at half of it (a quarter of the pixels), then
+  // the mesh's lighter copies at half resolution, each a quarter of the one before, the lightest
+  // last at a quarter. One measured slower (the mean of 4 frames drawn back to back, or 2 at under
+  // 12 a second) is not used again for this mesh; far slower skips to the first way whose
+  // triangles would fit at that rate. A quarter of a second after the last move the
+  // whole mesh is drawn at full resolution; picking, measuring and pictures always use it.
+  // Interactive level of detail, as VTK's and ParaView's desktop viewers do it.
+  let levels = [], ways = [], way = 0, slowerThan = 1000 / 50, dragging = false;
+  let frameRequest = 0, frameWanted = false, lastMove = 0, lastFrame = 0, times = [];
+  const drawLevel = (k, scale = 1) => {
+    if (geometry.index !== levels[k]) geometry.setIndex(levels[k]);
+    if (renderer.getPixelRatio() !== window.devicePixelRatio * scale) renderer.setPixelRatio(window.devicePixelRatio * scale);
+    render();
+  };
+  const still = () => {
+    cancelAnimationFrame(frameRequest);
+    frameRequest = 0, frameWanted = false, lastFrame = 0;
+    drawLevel(0);
+  };
+  // Each animation frame while moving: draws what moved since the last, or once still, the whole
+  // mesh. Judged here, not by a timer: a frame slower than the wait would end every move.
+  const nextFrame = (now) => {
+    frameRequest = 0;
+    if (frameWanted) {
+      if (lastFrame) times.push(now - lastFrame); // the frame before was drawn: this one's interval is its cost
+      const counted = times.slice(1), mean = counted.reduce((a, b) => a + b, 0) / counted.length; // the first may upload the level
+      const slow = (counted.length >= 4 && mean > slowerThan) || (counted.length >= 2 && mean > 4 * slowerThan);
+      if (slow && way + 1 < ways.length) {
+        // Far too slow skips ahead: to the first way with the triangles the budget allows at this rate.
+        const allowed = (levels[ways[way].level].count * slowerThan) / mean;
+        way = Math.max(way + 1, ways.findIndex((w, k) => k > way && levels[w.level].count <= allowed));
+        if (way < 0 || way >= ways.length) way = ways.length - 1;
+        updateMoving(), (times = []);
+      }
+      else if (counted.length >= 8) times = [];
+      frameWanted = false;
+      lastFrame = now;
+      drawLevel(ways[way].level, ways[way].scale);
+    } else if (performance.now() - lastMove > 250) return still();
+    else lastFrame = 0;
+    frameRequest = requestAnimationFrame(nextFrame);
+  };
+  const moved = () => {
+    lastMove = performance.now();
+    frameWanted = true;
+    if (!frameRequest) (times = []), (frameRequest = requestAnimationFrame(nextFrame));
+  };
+  controls.addEventListener("start", () => { dragging = true; });
+  controls.addEventListener("end", () => { dragging = false; });
+  controls.addEventListener("change", () => (dragging || frameRequest ? moved() : drawLevel(0)));
+  const updateMoving = () => {
+    const { level, scale } = ways[way];
+    document.getElementById("moving").textContent = (level > 0 ? `${(levels[level].count / 3).toLocaleString("en")} triangles`
+      : "the whole mesh") + (scale < 1 ? `, at 1/${1 / scale} of the resolution` : "");
+    api.moving = { triangles: levels[level].count / 3, scale };
+  };
 
   // Views: oblique from the south-west, or from above through a long lens (nearly orthographic:
   // what is seen is the plan).
@@ -319,6 +384,13 @@ async function main() {
     geometry.dispose();
     geometry = geometryOf(decoded);
     mesh.geometry = geometry;
+    levels = [geometry.index, ...decoded.motion.map((m) => new BufferAttribute(m, 1))];
+    ways = [{ level: 0, scale: 1 }, ...levels.map((_, k) => ({ level: k, scale: 0.5 })),
+      { level: levels.length - 1, scale: 0.25 }];
+    way = 0;
+    cancelAnimationFrame(frameRequest), (frameRequest = 0), (frameWanted = false);
+    if (renderer.getPixelRatio() !== window.devicePixelRatio) renderer.setPixelRatio(window.devicePixelRatio);
+    updateMoving();
     hasColors = !!decoded.colors;
     own = geometry.getAttribute("color") || null;
     heat = decoded.heatColors ? colorAttribute(decoded.heatColors, header.vertices, true) : null;
@@ -359,11 +431,24 @@ async function main() {
     screenOfFile: (p) => screenOf(p.map((x, k) => x - header.origin[k])),
     vertexInFile: fileCoordinates,
     setFlat, setHeat, topView, obliqueView, measurement: null,
-    // Turns the camera about the vertical through its target and draws (benchmarks orbit with it).
+    // Turns the camera about the vertical through its target, as a drag does: the frame is drawn
+    // at the next animation frame, from the level that keeps up (benchmarks orbit with it).
     orbitBy: (radians) => {
       camera.position.sub(controls.target).applyAxisAngle(new Vector3(0, 0, 1), radians).add(controls.target);
+      dragging = true;
       controls.update();
+      dragging = false;
     },
+    // Draws the whole mesh now (after orbitBy, for a picture or a benchmark of the whole mesh).
+    drawStill: still,
+    // How moving draws: `moving` ({triangles, scale}) says, movingWays() lists the ways in order
+    // ({level: 0 the whole mesh, 1, 2, ... the lighter copies; scale of the resolution}), and
+    // setMovingWay(k) chooses one (tests; the page finds it from its frames).
+    setMovingWay: (k) => ((way = Math.min(Math.max(k, 0), ways.length - 1)), updateMoving()),
+    // The longest a frame may take while moving, in ms (20 unless set: tests set 0 or Infinity).
+    setMovingBudget: (ms) => ((slowerThan = ms), (times = [])),
+    movingWays: () => ways.map(({ level, scale }) => ({ level, triangles: levels[level].count / 3, scale })),
+    trianglesDrawn: () => geometry.index.count / 3,
     picked: () => picked.map((p) => p.file),
     canvas: renderer.domElement,
   });
