@@ -78,9 +78,13 @@ std::vector<std::vector<unsigned int>> motion_levels(const std::vector<unsigned 
         const float anywhere = 1.0f; // no bound on the error (relative to the mesh's extent): the count decides
         std::size_t kept = meshopt_simplify(level.data(), finer->data(), finer->size(), positions[0].data(),
                                             positions.size(), sizeof(positions[0]), target, anywhere);
-        if (kept > target + target / 2)
-            kept = meshopt_simplifySloppy(level.data(), finer->data(), finer->size(), positions[0].data(),
-                                          positions.size(), sizeof(positions[0]), target, anywhere);
+        if (kept > target + target / 2) {
+            std::vector<unsigned int> clustered(finer->size());
+            const std::size_t fewer =
+                meshopt_simplifySloppy(clustered.data(), finer->data(), finer->size(), positions[0].data(),
+                                       positions.size(), sizeof(positions[0]), target, anywhere);
+            if (fewer > 0 && fewer < kept) level.swap(clustered), kept = fewer;
+        }
         if (kept == 0 || kept >= finer->size()) break;
         level.resize(kept);
         meshopt_optimizeVertexCache(level.data(), level.data(), kept, positions.size());

@@ -139,6 +139,24 @@ const tally = checks(), check = tally.check;
       settledFrame.covered > 0.05, JSON.stringify(settled));
     const shownMoving = await page.evaluate(() => document.getElementById("moving").textContent);
     check(`says so ("while moving: ${shownMoving}")`, shownMoving.startsWith(lightest.triangles.toLocaleString("en")), shownMoving);
+    // The choice alone, from frame intervals (ms) against a 20 ms budget.
+    const choices = await page.evaluate(() => [[16, 16, 16, 16, 16], [30, 30, 30, 30, 30], [30, 30, 30], [100, 100, 100, 100],
+      [1e4, 1e4, 1e4, 1e4], [16, 500, 16, 16, 16]].map((intervals) => window.lasmesh.wayAfter(intervals, 20)));
+    const fits = ways.findIndex((w) => w.triangles <= (expected.triangles * 20) / 100);
+    check(`chooses from the frames: keeps up, one step, too few frames, skips to ${fits}, the lightest, one stall ignored ` +
+      `(${choices.join(" ")})`, JSON.stringify(choices) === JSON.stringify([0, 1, 0, fits, ways.length - 1, 0]) && fits > 1, choices);
+
+    // A click that turned the camera a pixel or two, while a lighter copy is drawn, picks on the whole mesh.
+    await page.evaluate(() => { window.lasmesh.setMovingBudget(Infinity); window.lasmesh.setMovingWay(window.lasmesh.movingWays().length - 1); });
+    const target = onScreen.find((c) => c !== a && c !== b) || onScreen[0];
+    await orbitFrames(2);
+    const [tx, ty] = await page.evaluate((p) => window.lasmesh.screenOfFile(p), expected.vertices[target.v]);
+    await page.mouse.move(Math.round(tx) - 2, Math.round(ty));
+    await page.mouse.down();
+    await page.mouse.move(Math.round(tx), Math.round(ty));
+    await page.mouse.up();
+    const jittered = await page.evaluate(() => ({ drawn: window.lasmesh.trianglesDrawn(), picked: window.lasmesh.picked().length }));
+    check("a click with a little drag while moving picks on the whole mesh", jittered.drawn === expected.triangles, JSON.stringify(jittered));
     await page.evaluate(() => { window.lasmesh.setMovingBudget(20); window.lasmesh.setMovingWay(0); });
 
     // Colours: from above, flat.

@@ -151,16 +151,16 @@ async function main() {
   let heatOn = false;
 
   // Moving the camera. While the user drags, wheels or orbits, each frame is drawn at the next
-  // animation frame, in the first of these ways that keeps the frames coming at 50 a second or
+  // animation frame, in the first of these ways that keeps the frames coming at 55 a second or
   // more: the whole mesh at the screen's resolution, at half of it (a quarter of the pixels), then
   // the mesh's lighter copies at half resolution, each a quarter of the one before, the lightest
-  // last at a quarter. One measured slower (the mean of 4 frames drawn back to back, or 2 at under
-  // 12 a second) is not used again for this mesh; far slower skips to the first way whose
-  // triangles would fit at that rate. A quarter of a second after the last move the
-  // whole mesh is drawn at full resolution; picking, measuring and pictures always use it.
-  // Interactive level of detail, as VTK's and ParaView's desktop viewers do it.
-  let levels = [], ways = [], way = 0, slowerThan = 1000 / 50, dragging = false;
-  let frameRequest = 0, frameWanted = false, lastMove = 0, lastFrame = 0, times = [];
+  // last at a quarter. A way measured slower is not used again for this mesh (nextWay). A quarter
+  // of a second after the last move the whole mesh is drawn at full resolution; picking,
+  // measuring and pictures always use it. Interactive level of detail, as VTK's and ParaView's
+  // desktop viewers do it.
+  let levels = [], ways = [], way = 0, dragging = false;
+  let budget = 1000 / 55, budgetSet = false, period = 1000 / 30; // ms; period: the display's, measured (at most 1/30 s)
+  let frameRequest = 0, frameWanted = false, lastMove = 0, lastFrame = 0, lastTick = 0, times = [];
   const drawLevel = (k, scale = 1) => {
     if (geometry.index !== levels[k]) geometry.setIndex(levels[k]);
     if (renderer.getPixelRatio() !== window.devicePixelRatio * scale) renderer.setPixelRatio(window.devicePixelRatio * scale);
@@ -168,30 +168,49 @@ async function main() {
   };
   const still = () => {
     cancelAnimationFrame(frameRequest);
-    frameRequest = 0, frameWanted = false, lastFrame = 0;
+    frameRequest = 0, frameWanted = false, lastFrame = 0, lastTick = 0;
     drawLevel(0);
   };
+  const median = (xs) => {
+    const s = [...xs].sort((a, b) => a - b), m = s.length >> 1;
+    return s.length % 2 ? s[m] : (s[m - 1] + s[m]) / 2;
+  };
+  // The way after `from`, given the intervals of frames drawn back to back in it (the first left
+  // out: it may upload the way's indices) and the longest a frame may take: their median, of 4
+  // or more, above the limit steps to the next way; of 3 or more, above four times the limit,
+  // skips to the first way whose triangles the limit allows at the rate measured (the lightest
+  // if none does). A median, so that one stall (a shader compiled, a tab shown again) does not count.
+  const nextWay = (from, intervals, limit) => {
+    const counted = intervals.slice(1);
+    if (from + 1 >= ways.length || counted.length < 3) return from;
+    const typical = median(counted);
+    if (typical > 4 * limit) {
+      const allowed = (levels[ways[from].level].count * limit) / typical;
+      const fit = ways.findIndex((w, k) => k > from && levels[w.level].count <= allowed);
+      return fit < 0 ? ways.length - 1 : fit;
+    }
+    return counted.length >= 4 && typical > limit ? from + 1 : from;
+  };
   // Each animation frame while moving: draws what moved since the last, or once still, the whole
-  // mesh. Judged here, not by a timer: a frame slower than the wait would end every move.
+  // mesh. Judged here, not by a timer: a frame slower than the wait would end every move. Ticks
+  // with nothing to draw measure the display's own period: a display paced under 55 a second
+  // (30 in a power-saving mode) is not taken for a slow renderer.
   const nextFrame = (now) => {
     frameRequest = 0;
     if (frameWanted) {
       if (lastFrame) times.push(now - lastFrame); // the frame before was drawn: this one's interval is its cost
-      const counted = times.slice(1), mean = counted.reduce((a, b) => a + b, 0) / counted.length; // the first may upload the level
-      const slow = (counted.length >= 4 && mean > slowerThan) || (counted.length >= 2 && mean > 4 * slowerThan);
-      if (slow && way + 1 < ways.length) {
-        // Far too slow skips ahead: to the first way with the triangles the budget allows at this rate.
-        const allowed = (levels[ways[way].level].count * slowerThan) / mean;
-        way = Math.max(way + 1, ways.findIndex((w, k) => k > way && levels[w.level].count <= allowed));
-        if (way < 0 || way >= ways.length) way = ways.length - 1;
-        updateMoving(), (times = []);
-      }
-      else if (counted.length >= 8) times = [];
+      const next = nextWay(way, times, budgetSet ? budget : Math.max(budget, 1.1 * period));
+      if (next !== way) (way = next), updateMoving(), (times = []);
+      else if (times.length > 8) times = [];
       frameWanted = false;
       lastFrame = now;
       drawLevel(ways[way].level, ways[way].scale);
-    } else if (performance.now() - lastMove > 250) return still();
-    else lastFrame = 0;
+    } else {
+      if (lastTick && !lastFrame) period = Math.min(period, now - lastTick);
+      if (performance.now() - lastMove > 250) return still();
+      lastFrame = 0;
+    }
+    lastTick = now;
     frameRequest = requestAnimationFrame(nextFrame);
   };
   const moved = () => {
@@ -311,6 +330,7 @@ async function main() {
     showMeasurement();
   };
   const pick = (clientX, clientY) => {
+    if (frameRequest || geometry.index !== levels[0]) still(); // a click that moved the camera a pixel: the whole mesh
     const rect = renderer.domElement.getBoundingClientRect();
     const ndc = new Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
     const raycaster = new Raycaster();
@@ -381,6 +401,8 @@ async function main() {
     document.getElementById("triangles").textContent = String(header.triangles);
 
     clearMeasurement();
+    cancelAnimationFrame(frameRequest), (frameRequest = 0), (frameWanted = false);
+    geometry.setIndex(levels[0] || geometry.index); // its own, so that dispose() frees it
     geometry.dispose();
     geometry = geometryOf(decoded);
     mesh.geometry = geometry;
@@ -388,7 +410,6 @@ async function main() {
     ways = [{ level: 0, scale: 1 }, ...levels.map((_, k) => ({ level: k, scale: 0.5 })),
       { level: levels.length - 1, scale: 0.25 }];
     way = 0;
-    cancelAnimationFrame(frameRequest), (frameRequest = 0), (frameWanted = false);
     if (renderer.getPixelRatio() !== window.devicePixelRatio) renderer.setPixelRatio(window.devicePixelRatio);
     updateMoving();
     hasColors = !!decoded.colors;
@@ -445,13 +466,24 @@ async function main() {
     // ({level: 0 the whole mesh, 1, 2, ... the lighter copies; scale of the resolution}), and
     // setMovingWay(k) chooses one (tests; the page finds it from its frames).
     setMovingWay: (k) => ((way = Math.min(Math.max(k, 0), ways.length - 1)), updateMoving()),
-    // The longest a frame may take while moving, in ms (20 unless set: tests set 0 or Infinity).
-    setMovingBudget: (ms) => ((slowerThan = ms), (times = [])),
+    // The longest a frame may take while moving, in ms (18, or 1.1 display periods if longer,
+    // unless set: tests set 0 or Infinity), and the way nextWay() would take from the whole mesh
+    // given frame intervals (a test of the choice alone).
+    setMovingBudget: (ms) => ((budget = ms), (budgetSet = true), (times = [])),
+    wayAfter: (intervals, ms) => nextWay(0, intervals, ms),
     movingWays: () => ways.map(({ level, scale }) => ({ level, triangles: levels[level].count / 3, scale })),
     trianglesDrawn: () => geometry.index.count / 3,
     picked: () => picked.map((p) => p.file),
     canvas: renderer.domElement,
   });
+  // The display's frame period, from a dozen animation frames with nothing drawn.
+  let lastSample = 0, samples = 0;
+  const sample = (now) => {
+    if (lastSample) period = Math.min(period, now - lastSample);
+    lastSample = now;
+    if (++samples < 12) requestAnimationFrame(sample);
+  };
+  requestAnimationFrame(sample);
   // Served by `lasmesh view`: the controls that mesh again and save.
   if (live) startLiveControls(liveSettings, async (bytes) => show(await readMesh(bytes), true), api);
   api.ready = true;
