@@ -312,3 +312,43 @@ TEST_CASE("simplify: locked borders stay, 0 is off, same result every time") {
     CHECK(again.triangles == free.triangles);
     CHECK(again.colors == free.colors);
 }
+
+namespace {
+
+// The loops of border edges (edges of one triangle), as connected sets of their vertices.
+std::size_t border_loops(const Mesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+    std::map<std::uint32_t, std::uint32_t> parent;
+    const auto find = [&](std::uint32_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    for (const auto& [edge, n] : uses)
+        if (n == 1) {
+            for (const std::uint32_t v : {edge.first, edge.second}) parent.emplace(v, v);
+            parent[find(edge.first)] = find(edge.second);
+        }
+    std::size_t loops = 0;
+    for (const auto& [v, p] : parent) loops += find(v) == v;
+    return loops;
+}
+
+} // namespace
+
+TEST_CASE("simplify: a hole stays open, however far the bound lets vertices move") {
+    // A flat square of 20 x 20 quads with one triangle taken out of its middle: a hole of three
+    // edges. Every collapse keeps the plane, so only the link condition stops one of the hole's
+    // vertices moving onto another across it, which would close the hole.
+    Mesh m = sheet(20);
+    for (auto& p : m.positions) p[2] = 0;
+    const std::size_t middle = 2 * (10 * 20 + 10);
+    m.triangles.erase(m.triangles.begin() + static_cast<std::ptrdiff_t>(middle));
+    compute_vertex_normals(m);
+    REQUIRE(border_loops(m) == 2);
+    simplify_mesh(m, {100.0, false});
+    CHECK(m.triangles.size() < 100);
+    CHECK(bad_edges(m) == 0);
+    CHECK(border_loops(m) == 2);
+}
