@@ -144,15 +144,16 @@ TEST_CASE("records in cells: exactly the records whose cell is in the set, in th
 }
 
 TEST_CASE("triangles kept by the cell or brick of their centroid, in their order, unused vertices dropped") {
-    // Three triangles in cells of 1 (4 x 4 x 4): centroids in cells (0, 0, 0), (1, 0, 0), (2, 1, 0).
+    // Three triangles in cells of 1 (4 x 3 x 4: x and y count differently, so a key with its axes
+    // swapped names other cells): centroids in cells (0, 0, 0), (1, 0, 0), (2, 1, 0).
     Mesh mesh;
     mesh.positions = {{0.1f, 0.1f, 0.5f}, {0.5f, 0.9f, 0.5f}, {0.9f, 0.1f, 0.5f}, // cell (0, 0, 0)
                       {1.1f, 0.1f, 0.5f}, {1.5f, 0.9f, 0.5f}, {1.9f, 0.1f, 0.5f}, // (1, 0, 0)
                       {2.1f, 1.1f, 0.5f}, {2.5f, 1.9f, 0.5f}, {2.9f, 1.1f, 0.5f}, // (2, 1, 0)
-                      {3.5f, 3.5f, 3.5f}};                                        // no triangle's
+                      {3.5f, 2.5f, 3.5f}};                                        // no triangle's
     mesh.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
     GridSpec spec;
-    spec.dims = {4, 4, 4};
+    spec.dims = {4, 3, 4};
     const std::uint64_t cell_100 = 1, cell_210 = 1 * 4 + 2;
     Mesh inside = mesh;
     keep_triangles_in_blocks(inside, spec, 0, {cell_100, cell_210}, true);

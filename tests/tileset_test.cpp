@@ -5,6 +5,7 @@
 #include "io/json.hpp"
 #include "lasmesh/build_mesh.hpp"
 #include "lasmesh/mesh_files.hpp"
+#include "measure/level_error.hpp"
 #include "measure/mesh_distance.hpp"
 #include "read/crs_transform.hpp"
 #include "test_support.hpp"
@@ -260,4 +261,28 @@ TEST_CASE("tileset: the same bytes again; a new run replaces the tiles; no CRS: 
     for (const std::string& w : result.report.warnings)
         noted = noted || w.find("not placed on the globe") != std::string::npos;
     CHECK(noted);
+}
+
+TEST_CASE("tileset: a coarser level's triangles far from the finest are left out, in its own frame") {
+    // The finest level: a square of 10 at z = 0. A coarser one, whose positions are relative to an
+    // origin of its own: the same square 0.2 above, and a triangle 5 above (an outlier cluster
+    // the finest level removed as a small piece, held together by the coarse cells).
+    Mesh fine;
+    fine.positions = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+    fine.triangles = {{0, 1, 2}, {0, 2, 3}};
+    Mesh coarse;
+    coarse.origin = {-1, 2, 0.5};
+    const auto at = [&](double x, double y, double z) {
+        return std::array<float, 3>{float(x - coarse.origin[0]), float(y - coarse.origin[1]),
+                                    float(z - coarse.origin[2])};
+    };
+    coarse.positions = {at(0, 0, 0.2), at(10, 0, 0.2), at(10, 10, 0.2), at(0, 10, 0.2),
+                        at(4, 4, 5),   at(6, 4, 5),    at(5, 6, 5)};
+    coarse.triangles = {{0, 1, 2}, {4, 5, 6}, {0, 2, 3}};
+    const FinestLevel finest(fine, 1000);
+    CHECK(finest.remove_far(coarse, 1.0) == 1);
+    CHECK(coarse.triangles == std::vector<std::array<std::uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}});
+    CHECK(coarse.positions.size() == 7); // the vertices stay: a tile takes only those it uses
+    // Its error against the finest: the square's 0.2 either way.
+    CHECK(finest.error(coarse) == doctest::Approx(0.2).epsilon(1e-4));
 }

@@ -5,7 +5,9 @@
 #  - the library speaks no command-line flag: errors and notes in src/ outside src/cli/ say what
 #    happened in words and name the option through Error::option, and the command line adds its
 #    flag, so a library user never gets advice about flags they do not have;
-#  - every source file carries its SPDX licence line.
+#  - every source file carries its SPDX licence line;
+#  - every file of code in src/ and kernels/ has a named mutation (tools/mutations.tsv), so
+#    tools/mutate.sh can show that some test fails when it is wrong.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/format.sh --check
@@ -22,4 +24,12 @@ if [ -n "$unlicensed" ]; then
   echo "sources: no SPDX-License-Identifier line in: $unlicensed" >&2
   exit 1
 fi
-echo "sources: no command-line flags in the library; every source file has its licence line"
+mutated=$(cut -f2 tools/mutations.tsv | sort -u)
+unmutated=$(git ls-files 'src/*.cpp' 'src/*.js' 'kernels/*.cl' | while read -r f; do
+  grep -qxF "$f" <<< "$mutated" || echo "$f"
+done)
+if [ -n "$unmutated" ]; then
+  echo "sources: no mutation in tools/mutations.tsv for: $unmutated" >&2
+  exit 1
+fi
+echo "sources: no command-line flags in the library; every source file has its licence line; every file of code a mutation"
