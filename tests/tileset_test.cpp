@@ -285,4 +285,8 @@ TEST_CASE("tileset: a coarser level's triangles far from the finest are left out
     CHECK(coarse.positions.size() == 7); // the vertices stay: a tile takes only those it uses
     // Its error against the finest: the square's 0.2 either way.
     CHECK(finest.error(coarse) == doctest::Approx(0.2).epsilon(1e-4));
+    // Half the square gone from the coarser level: the finest's points there lie up to 7 from the
+    // half left, though every point of the coarser level still lies 0.2 from the finest.
+    coarse.triangles.pop_back();
+    CHECK(finest.error(coarse) > 3);
 }
