@@ -12,7 +12,9 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <utility>
@@ -59,6 +61,76 @@ double triangle_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
     const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
     return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+// A floor of 4 x 4 m (one face), a 3 cm plate standing on it at x = 2 (faces at 1.985 and 2.015,
+// 3 x 1.8 m) and a rail of 2.5 cm radius at x = 1, z = 1 along y, all with 1 cm of noise (as
+// lasgen's, bounded at 3.46 sigma), about 40 points a face per cell, accumulated at 64 cells.
+CellGrid floor_plate_rail() {
+    test::TempDir dir;
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 17;
+    auto next = [&] { return uniform(state); };
+    auto noise = [&] { return (next() + next() + next() + next() - 2.0) * 1.7320508075688772 * 0.01; };
+    for (int i = 0; i < 160000; ++i) points.push_back(point(4 * next(), 4 * next(), noise()));
+    for (int i = 0; i < 108000; ++i) {
+        const double face = i % 2 ? 2.015 : 1.985;
+        points.push_back(point(face + noise(), 0.5 + 3 * next(), 1.8 * next()));
+    }
+    for (int i = 0; i < 12000; ++i) {
+        const double t = 2 * std::numbers::pi * next();
+        points.push_back(point(1 + 0.025 * std::cos(t) + noise(), 0.5 + 3 * next(), 1 + 0.025 * std::sin(t) + noise()));
+    }
+    test::write_file(dir.file("plate.las"),
+                     test::las_with_points(points, {-0.05, -0.05, -0.05}, {4.05, 4.05, 1.85}, 8, 3, 0.001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::longest(64);
+    return test::accumulate_file(dir.file("plate.las"), grid);
+}
+
+// The bricks of `grid` that hold cells x0 <= x < x1 (multiples of the brick), in its frame.
+CellGrid part_in_x(const CellGrid& grid, std::uint64_t x0, std::uint64_t x1) {
+    CellGrid part;
+    part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
+    part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
+    part.color_max_word = grid.color_max_word;
+    for (std::size_t b = 0; b < grid.brick_keys.size(); ++b) {
+        const std::uint64_t x = grid.brick_keys[b] % grid.bricks[0] * CellGrid::brick_size;
+        if (x < x0 || x >= x1) continue;
+        part.brick_keys.push_back(grid.brick_keys[b]);
+        part.brick_masks.push_back(grid.brick_masks[b]);
+        part.brick_first.push_back(part.cells.size());
+        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[b]);
+        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[b]));
+    }
+    part.index_bricks();
+    return part;
+}
+
+// The triangles whose centroid lies at x0 <= x < x1 (from the mesh's origin), each as its
+// corners' positions from its lowest corner on, in its winding; sorted.
+std::vector<std::array<float, 9>> triangles_in_x(const Mesh& m, double x0, double x1) {
+    std::vector<std::array<float, 9>> kept;
+    for (const auto& t : m.triangles) {
+        const double x = (m.positions[t[0]][0] + m.positions[t[1]][0] + m.positions[t[2]][0]) / 3;
+        if (x < x0 || x >= x1) continue;
+        int first = 0;
+        for (int k = 1; k < 3; ++k)
+            if (m.positions[t[k]] < m.positions[t[first]]) first = k;
+        std::array<float, 9> corners{};
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) corners[3 * k + a] = m.positions[t[(first + k) % 3]][a];
+        kept.push_back(corners);
+    }
+    std::sort(kept.begin(), kept.end());
+    return kept;
+}
+
+// How many triangles one of the two has and the other not.
+std::size_t count_differing(const std::vector<std::array<float, 9>>& a, const std::vector<std::array<float, 9>>& b) {
+    std::vector<std::array<float, 9>> differ;
+    std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(differ));
+    return differ.size();
 }
 
 } // namespace
@@ -172,28 +244,10 @@ TEST_CASE("a plate thinner than a cell, scanned on both faces with noise, gives 
     // 2.015, 3 x 1.8 m), 1 cm of noise (lasgen's, bounded at 3.46 sigma), about 40 points a face
     // per 6.25 cm cell: the plate's points fill one band of cells, whose middle the sheet follows;
     // the layers' spread (3.25 cm^2 against the floor's 1) tells its two faces.
-    test::TempDir dir;
-    std::vector<lasgen::GeneratedPoint> points;
-    std::uint64_t state = 17;
-    auto next = [&] { return uniform(state); };
-    auto noise = [&] { return (next() + next() + next() + next() - 2.0) * 1.7320508075688772 * 0.01; };
-    for (int i = 0; i < 160000; ++i) points.push_back(point(4 * next(), 4 * next(), noise()));
-    for (int i = 0; i < 108000; ++i) {
-        const double face = i % 2 ? 2.015 : 1.985;
-        points.push_back(point(face + noise(), 0.5 + 3 * next(), 1.8 * next()));
-    }
     // A rail of 2.5 cm radius at x = 1, z = 1 along y, scanned all round: a line of cells, whose
     // points spread across the sheet by the rail's width (3 cm^2 beside the noise's 1), not by
     // two faces.
-    for (int i = 0; i < 12000; ++i) {
-        const double t = 2 * std::numbers::pi * next();
-        points.push_back(point(1 + 0.025 * std::cos(t) + noise(), 0.5 + 3 * next(), 1 + 0.025 * std::sin(t) + noise()));
-    }
-    test::write_file(dir.file("plate.las"),
-                     test::las_with_points(points, {-0.05, -0.05, -0.05}, {4.05, 4.05, 1.85}, 8, 3, 0.001));
-    AccumulateOptions grid;
-    grid.grid = GridRequest::longest(64);
-    const CellGrid g = test::accumulate_file(dir.file("plate.las"), grid);
+    const CellGrid g = floor_plate_rail();
     REQUIRE(g.moments_exact());
     const Mesh sheet = extract_sheet(g, automatic_iso(g));
     REQUIRE(sheet.normals.size() == sheet.positions.size());
@@ -663,4 +717,69 @@ TEST_CASE("thin parts at a fine grid: a noisy plane's edge is no tube") {
     }
     CHECK(near_edge > 20);
     CHECK(farthest < 0.6 * cell); // 2.6 cm as a tube
+}
+
+TEST_CASE("a part of the grid, meshed with the whole grid's noise and outside, is the whole grid's sheet there") {
+    // The part: the bricks of the cells 16 to 47 in x (the plate at 31, the rail at the part's
+    // edge), all of y and z, in the whole grid's frame. Inside it, 8 cells from its edges in x,
+    // the sheets must be the same triangles, facing the same way: the plate's two faces too, whose
+    // spread is told against the whole scan's noise (most of the part's layers are the plate's, so
+    // its own median would be the plate's spread, and the plate one sheet).
+    const CellGrid g = floor_plate_rail();
+    const double iso = automatic_iso(g);
+    const SheetSurvey survey = sheet_survey(g, iso);
+    CHECK(survey.noise > 0.00005); // about (1 cm)^2
+    CHECK(survey.noise < 0.0002);
+    const CellGrid part = part_in_x(g, 16, 48);
+    REQUIRE(part.cells.size() * 4 < g.cells.size() * 3);
+    const double x0 = 24 * g.spec.cell_size, x1 = 40 * g.spec.cell_size;
+    const std::vector<std::array<float, 9>> expected = triangles_in_x(extract_sheet(g, iso), x0, x1);
+    const std::vector<std::array<float, 9>> got = triangles_in_x(extract_sheet(part, iso, survey), x0, x1);
+    // Not vacuous: the plate is two faces inside, each of many triangles.
+    std::size_t plate_faces = 0;
+    for (const auto& c : expected) plate_faces += std::abs(c[0] + g.spec.origin[0] - 2) < 0.03 && c[2] > 0.3;
+    CAPTURE(plate_faces);
+    CHECK(plate_faces > 1000);
+    CAPTURE(expected.size());
+    CHECK(count_differing(expected, got) == 0);
+}
+
+TEST_CASE("a part of the grid that cuts a box, meshed with the whole grid's outside, faces out as the whole does") {
+    // A box of 4 x 2 x 1.5 m on an 8 x 4 m deck, scanned under too (the floor inside it), its
+    // edges not scanned (a gap of two cells), so that each wall and its roof is a piece of its
+    // own: in the whole grid the box's inside is enclosed, and only that turns its walls to face
+    // out. The part (x from 3 m on) cuts the box, so its own cells would leave the inside open to
+    // the cut. Inside the part, 1 m from its cut, the triangles must be the whole grid's, facing
+    // the same way.
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 23;
+    auto next = [&] { return uniform(state); };
+    for (int i = 0; i < 120000; ++i) points.push_back(point(8 * next(), 4 * next(), 0));
+    const double x0 = 2, x1 = 6, y0 = 1, y1 = 3, top = 1.5;
+    for (int i = 0; i < 100000; ++i) {
+        const double u = next(), v = next();
+        const double along = i % 5 < 3 ? u * (x1 - x0) : u * (y1 - y0), length = i % 5 < 3 ? x1 - x0 : y1 - y0;
+        const double up = i % 5 == 0 ? std::min(v, 1 - v) * (y1 - y0) : std::min(v, 1 - v) * top;
+        if (std::min({along, length - along, up}) < 0.25) continue; // the edges unscanned
+        switch (i % 5) {
+        case 0: points.push_back(point(x0 + u * (x1 - x0), y0 + v * (y1 - y0), top)); break;
+        case 1: points.push_back(point(x0 + u * (x1 - x0), y0, v * top)); break;
+        case 2: points.push_back(point(x0 + u * (x1 - x0), y1, v * top)); break;
+        case 3: points.push_back(point(x0, y0 + u * (y1 - y0), v * top)); break;
+        default: points.push_back(point(x1, y0 + u * (y1 - y0), v * top)); break;
+        }
+    }
+    test::TempDir dir;
+    test::write_file(dir.file("box.las"), test::las_with_points(points, {0, 0, 0}, {8, 4, 1.5}, 8, 3, 0.001));
+    AccumulateOptions options;
+    options.grid = GridRequest::longest(64);
+    const CellGrid g = test::accumulate_file(dir.file("box.las"), options);
+    const double iso = automatic_iso(g);
+    const SheetSurvey survey = sheet_survey(g, iso);
+    const CellGrid part = part_in_x(g, 24, 64); // from 3 m
+    const std::vector<std::array<float, 9>> expected = triangles_in_x(extract_sheet(g, iso), 4, 8);
+    const std::vector<std::array<float, 9>> got = triangles_in_x(extract_sheet(part, iso, survey), 4, 8);
+    CAPTURE(expected.size());
+    CHECK(expected.size() > 1000);
+    CHECK(count_differing(expected, got) == 0);
 }

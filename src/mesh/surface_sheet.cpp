@@ -7,6 +7,7 @@
 
 #include "lasmesh/normals.hpp"
 #include "mesh/mesh_edit.hpp"
+#include "mesh/outside_space.hpp"
 #include "sparse_marching_cubes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -337,18 +338,25 @@ constexpr double two_faces_spread = 2;
 // and a 5 cm rail at 6.5 cm cells with 1 cm of noise: the plate's cells 0.45 (5th percentile) to
 // 0.65 (median), the rail's 0.10 to 0.19 (75th percentile).
 constexpr double plate_min_width = 0.3;
-void estimate_thickness(Planes& planes, double h, const std::vector<double>& spread, const std::vector<double>& points,
-                        const std::vector<double>& middle) {
-    const std::size_t n = planes.cell.size();
-    // Layers of fewer points give too loose a spread to judge by.
-    constexpr double min_points = 8;
+// Layers of fewer points give too loose a spread to judge by.
+constexpr double layer_min_points = 8;
+
+// The scan's noise s^2: the median spread of the layers of layer_min_points or more (0 with
+// fewer than 16 of them: too few to tell the noise from the surfaces).
+double layer_noise(const std::vector<double>& spread, const std::vector<double>& points) {
     std::vector<double> usable;
-    for (std::size_t p = 0; p < n; ++p)
-        if (points[p] >= min_points) usable.push_back(spread[p]);
-    if (usable.size() < 16) return;
+    for (std::size_t p = 0; p < spread.size(); ++p)
+        if (points[p] >= layer_min_points) usable.push_back(spread[p]);
+    if (usable.size() < 16) return 0;
     const auto half_way = usable.begin() + static_cast<std::ptrdiff_t>(usable.size() / 2);
     std::nth_element(usable.begin(), half_way, usable.end());
-    const double noise = *half_way;
+    return *half_way;
+}
+
+void estimate_thickness(Planes& planes, double h, const std::vector<double>& spread, const std::vector<double>& points,
+                        const std::vector<double>& middle, double noise) {
+    const std::size_t n = planes.cell.size();
+    constexpr double min_points = layer_min_points;
     // A cell more than 16 times the noise across holds more of the surfaces' shape than of their
     // noise: its layers gather other surfaces along the normal, and a plate a tenth of a cell
     // thick is many times the noise (the generated deck's walls were found at 6 and 12 cm cells,
@@ -406,67 +414,6 @@ bool along_plane(const Planes& planes, std::uint32_t p, std::uint32_t q) {
     const double across = std::abs(dot(planes.normal[p], step));
     return across <= 0.5 * std::sqrt(dot(step, step));
 }
-
-// The space outside every surface, as a scanner above sees it: a coarse voxel grid (at most 256
-// voxels an axis, a voxel 2^k cells, one voxel of margin all round) where voxels near surface
-// cells are walls, flooded from its top through the others (a breadth-first search, six
-// neighbours). The inside of a closed box or of a sphere is never reached, nor the space under a
-// deck or a terrain that spans the grid: their top sides are outside.
-struct Outside {
-    int shift = 0;                      // a voxel is 2^shift cells
-    std::array<std::int64_t, 3> size{}; // voxels per axis, with one voxel of margin all round
-    std::vector<char> reached;          // per voxel, x fastest
-
-    explicit Outside(const Planes& planes) {
-        const auto& dims = planes.grid.spec.dims;
-        while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift) > 256) ++shift;
-        for (int a = 0; a < 3; ++a) size[a] = ((std::int64_t{dims[a]} + (1 << shift) - 1) >> shift) + 2;
-        std::vector<char> wall(static_cast<std::size_t>(size[0] * size[1] * size[2]), 0);
-        // A voxel holding a surface cell, and its six neighbours, are walls: gaps of a voxel close.
-        for (const auto& c : planes.cell) {
-            const std::array<std::int64_t, 3> v{(c[0] >> shift) + 1, (c[1] >> shift) + 1, (c[2] >> shift) + 1};
-            wall[index(v)] = 1;
-            for (int a = 0; a < 3; ++a)
-                for (const int d : {-1, 1}) {
-                    std::array<std::int64_t, 3> w = v;
-                    w[a] += d;
-                    if (w[a] >= 0 && w[a] < size[a]) wall[index(w)] = 1;
-                }
-        }
-        reached.assign(wall.size(), 0);
-        std::vector<std::array<std::int64_t, 3>> queue;
-        for (std::int64_t y = 0; y < size[1]; ++y)
-            for (std::int64_t x = 0; x < size[0]; ++x)
-                if (const std::array<std::int64_t, 3> v{x, y, size[2] - 1}; !wall[index(v)])
-                    reached[index(v)] = 1, queue.push_back(v);
-        for (std::size_t i = 0; i < queue.size(); ++i)
-            for (int a = 0; a < 3; ++a)
-                for (const int d : {-1, 1}) {
-                    std::array<std::int64_t, 3> w = queue[i];
-                    w[a] += d;
-                    if (w[a] < 0 || w[a] >= size[a] || wall[index(w)] || reached[index(w)]) continue;
-                    reached[index(w)] = 1;
-                    queue.push_back(w);
-                }
-    }
-    std::size_t index(const std::array<std::int64_t, 3>& v) const {
-        return static_cast<std::size_t>((v[2] * size[1] + v[1]) * size[0] + v[0]);
-    }
-    // Whether the space 2.5 and 3.5 voxels from `point` (relative to the grid origin) along
-    // `direction` is outside (past the walls around the point's own voxel); `cell` is the grid's.
-    bool open(const Vec& point, const Vec& direction, double cell) const {
-        const double voxel = cell * double(1 << shift);
-        for (const double steps : {2.5, 3.5}) {
-            std::array<std::int64_t, 3> v{};
-            for (int a = 0; a < 3; ++a) {
-                v[a] = static_cast<std::int64_t>(std::floor((point[a] + direction[a] * steps * voxel) / voxel)) + 1;
-                if (v[a] < 0 || v[a] >= size[a]) return a != 2 || v[a] >= size[a]; // past the sides or the top: outside
-            }
-            if (reached[index(v)]) return true;
-        }
-        return false;
-    }
-};
 
 // A plane whose normal is within 45 degrees of a tube's axis lies across the tube.
 constexpr double across_tube_cosine = 0.7071;
@@ -578,12 +525,12 @@ constexpr double smooth_cosine = 0.9;
 // grown from the first plane of each connected piece (Hoppe et al., "Surface reconstruction from
 // unorganized points", 1992): neighbours must agree, or the extraction leaves a crack where they
 // meet. A plane whose neighbourhood sees the outside on one side only (`outside_side`, from
-// Outside: a box's wall, a roof, a deck) joins a piece only facing the way the piece's first such
+// OutsideSpace: a box's wall, a roof, a deck) joins a piece only facing the way the piece's first such
 // plane does: a box's wall reached from a floor inside the box (as on decks scanned under their
 // containers) starts a piece of its own instead of turning inward. Then each piece faces the way
 // most of its planes that see a side say, by their point counts; with none, outward when it
 // encloses something (its normals point away from its centroid on the whole: a sphere), else up.
-void orient_normals(Planes& planes, const Outside& outside) {
+void orient_normals(Planes& planes, const OutsideSpace& outside) {
     const std::size_t n = planes.cell.size();
     const double h = planes.grid.spec.cell_size;
     // Which side of each plane is outside: +1 its normal's, -1 the other, 0 both or neither; then
@@ -681,7 +628,7 @@ void orient_normals(Planes& planes, const Outside& outside) {
 // turn on its own, and no part is split. A part turns (winding and normals) when the area of its
 // triangles with the outside behind them and not in front exceeds the area with it in front and
 // not behind: a box's wall reached by the spanning tree from the floor inside the box.
-void face_outside(Mesh& mesh, const Outside& outside, double cell) {
+void face_outside(Mesh& mesh, const OutsideSpace& outside, double cell) {
     const std::size_t nv = mesh.positions.size();
     const std::vector<std::uint32_t> part = connected_parts(mesh);
     std::vector<double> votes(nv, 0); // per part
@@ -1006,7 +953,7 @@ void sample_seam(const SheetField& field, SeamCorners& c) {
 // table once the corners are sampled.
 Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned,
              const std::function<void()>& released, SeamRequest* seam_request,
-             const std::function<const SeamCorners&()>& coarse_seam) {
+             const std::function<const SeamCorners&()>& coarse_seam, const SheetSurvey* survey) {
     Planes planes(grid, iso);
     if (owned) std::vector<CellSums>().swap(owned->cells);
     if (released) released();
@@ -1016,13 +963,16 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
         {
             std::vector<double> spread, points, middle;
             layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
-            estimate_thickness(planes, grid.spec.cell_size, spread, points, middle);
+            estimate_thickness(planes, grid.spec.cell_size, spread, points, middle,
+                               survey ? survey->noise : layer_noise(spread, points));
         }
         keep_spread_along(planes);
         std::vector<std::array<float, 6>>().swap(planes.scatter);
     }
     pool_split_layers(planes, grid.spec.cell_size);
-    const Outside outside(planes);
+    std::optional<OutsideSpace> own_outside;
+    const OutsideSpace& outside =
+        survey && survey->outside ? *survey->outside : own_outside.emplace(grid.spec.dims, planes.cell);
     orient_normals(planes, outside);
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
     std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
@@ -1068,12 +1018,30 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
 
 Mesh extract_sheet(const CellGrid& grid, double iso, LinearParts linear,
                    const std::function<const SeamCorners&()>& coarse_seam) {
-    return extract(grid, iso, linear, nullptr, {}, nullptr, coarse_seam);
+    return extract(grid, iso, linear, nullptr, {}, nullptr, coarse_seam, nullptr);
 }
 
 Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::function<void()>& released,
                    SeamRequest* seam) {
-    return extract(grid, iso, linear, &grid, released, seam, {});
+    return extract(grid, iso, linear, &grid, released, seam, {}, nullptr);
+}
+
+SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear) {
+    Planes planes(grid, iso);
+    estimate_normals(planes);
+    if (linear == LinearParts::tubes) estimate_tubes(planes);
+    SheetSurvey survey;
+    if (!planes.scatter.empty()) {
+        std::vector<double> spread, points, middle;
+        layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
+        survey.noise = layer_noise(spread, points);
+    }
+    survey.outside = std::make_shared<const OutsideSpace>(grid.spec.dims, planes.cell);
+    return survey;
+}
+
+Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, LinearParts linear) {
+    return extract(part, iso, linear, nullptr, {}, nullptr, {}, &survey);
 }
 
 } // namespace lasmesh

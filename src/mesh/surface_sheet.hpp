@@ -6,9 +6,11 @@
 #include "grid/cell_sums.hpp"
 #include "lasmesh/mesh.hpp"
 #include "lasmesh/surface.hpp"
+#include "mesh/outside_space.hpp"
 #include "mesh/seam_corners.hpp"
 
 #include <functional>
+#include <memory>
 
 namespace lasmesh {
 
@@ -66,5 +68,21 @@ struct SeamRequest {
 // that needs the memory (build_mesh starts the second read of the thin parts there).
 Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts::planes,
                    const std::function<void()>& released = {}, SeamRequest* seam = nullptr);
+
+// What the sheet takes from the whole grid rather than from the cells around each plane: the
+// scan's noise (the median spread of the layers' points along their normals, against which a
+// plate's two faces are told) and the space outside every surface (which way each piece faces).
+// The rest looks a few cells around each cell, so a part of the grid (some of its bricks, with
+// the grid's size and origin) meshed with the whole grid's SheetSurvey gives the whole grid's
+// sheet there, but for the orientation near the part's edges: tiles can be meshed one by one,
+// each with a halo of cells round it, and their sheets joined. Measured on the generated decks
+// (docs/design.md, "Over many machines").
+struct SheetSurvey {
+    double noise = 0; // a variance, in the grid's units squared; 0: none measured (no plate is split)
+    std::shared_ptr<const OutsideSpace> outside;
+};
+SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes);
+Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
+                   LinearParts linear = LinearParts::planes);
 
 } // namespace lasmesh

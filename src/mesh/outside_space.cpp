@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+// OutsideSpace: the walls round the surface cells, then a flood from the top through the rest.
+#include "mesh/outside_space.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lasmesh {
+
+OutsideSpace::OutsideSpace(const std::array<std::uint32_t, 3>& dims,
+                           const std::vector<std::array<std::int64_t, 3>>& surface_cells) {
+    while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift_) > 256) ++shift_;
+    for (int a = 0; a < 3; ++a) size_[a] = ((std::int64_t{dims[a]} + (1 << shift_) - 1) >> shift_) + 2;
+    std::vector<char> wall(static_cast<std::size_t>(size_[0] * size_[1] * size_[2]), 0);
+    // A voxel holding a surface cell, and its six neighbours, are walls: gaps of a voxel close.
+    for (const auto& c : surface_cells) {
+        const std::array<std::int64_t, 3> v{(c[0] >> shift_) + 1, (c[1] >> shift_) + 1, (c[2] >> shift_) + 1};
+        wall[index(v)] = 1;
+        for (int a = 0; a < 3; ++a)
+            for (const int d : {-1, 1}) {
+                std::array<std::int64_t, 3> w = v;
+                w[a] += d;
+                if (w[a] >= 0 && w[a] < size_[a]) wall[index(w)] = 1;
+            }
+    }
+    reached_.assign(wall.size(), 0);
+    std::vector<std::array<std::int64_t, 3>> queue;
+    for (std::int64_t y = 0; y < size_[1]; ++y)
+        for (std::int64_t x = 0; x < size_[0]; ++x)
+            if (const std::array<std::int64_t, 3> v{x, y, size_[2] - 1}; !wall[index(v)])
+                reached_[index(v)] = 1, queue.push_back(v);
+    for (std::size_t i = 0; i < queue.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+            for (const int d : {-1, 1}) {
+                std::array<std::int64_t, 3> w = queue[i];
+                w[a] += d;
+                if (w[a] < 0 || w[a] >= size_[a] || wall[index(w)] || reached_[index(w)]) continue;
+                reached_[index(w)] = 1;
+                queue.push_back(w);
+            }
+}
+
+bool OutsideSpace::open(const std::array<double, 3>& point, const std::array<double, 3>& direction, double cell) const {
+    const double voxel = cell * double(1 << shift_);
+    for (const double steps : {2.5, 3.5}) {
+        std::array<std::int64_t, 3> v{};
+        for (int a = 0; a < 3; ++a) {
+            v[a] = static_cast<std::int64_t>(std::floor((point[a] + direction[a] * steps * voxel) / voxel)) + 1;
+            if (v[a] < 0 || v[a] >= size_[a]) return a != 2 || v[a] >= size_[a]; // past the sides or the top: outside
+        }
+        if (reached_[index(v)]) return true;
+    }
+    return false;
+}
+
+} // namespace lasmesh

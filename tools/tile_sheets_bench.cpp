@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: Apache-2.0
+// tile_sheets_bench: whether the sheet can be meshed tile by tile (tools/bench_tile_sheets.sh).
+// Accumulates a LAS file as lasmesh does by default, extracts the whole grid's sheet, then each
+// tile's (TILE x TILE cells in x and y, all of z) from the tile's bricks and a halo of HALO
+// cells round it, with the whole grid's noise and outside (sheet_survey), or with --own each
+// tile's own; keeps each tile's triangles whose centroid lies in it and joins them (vertices at
+// the same place, to 0.1 mm, made one). Reports both meshes' triangles, their border edges (all,
+// and those within a cell of a tile's border: the cracks a tiling would add), edges whose two
+// triangles face apart, and the triangles only one of the two meshes has. Writes PREFIX-whole.ply
+// and PREFIX-tiled.ply (small pieces removed from each, not simplified) for
+// `lasgen --scene deck --measure`.
+//
+// Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own]
+#include "build_steps.hpp"
+#include "io/ply_writer.hpp"
+#include "lasmesh/build_mesh.hpp"
+#include "lasmesh/mesh_pieces.hpp"
+#include "mesh/marching_cubes.hpp"
+#include "mesh/surface_sheet.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iterator>
+#include <map>
+#include <string>
+#include <unordered_map>
+
+using namespace lasmesh;
+
+namespace {
+
+// The bricks of `grid` holding cells x0 <= x < x1 and y0 <= y < y1, in its frame.
+CellGrid window_of(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
+    const std::int64_t b = CellGrid::brick_size;
+    CellGrid part;
+    part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
+    part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
+    part.color_max_word = grid.color_max_word;
+    for (std::size_t k = 0; k < grid.brick_keys.size(); ++k) {
+        const std::uint64_t key = grid.brick_keys[k];
+        const auto bx = std::int64_t(key % grid.bricks[0]), by = std::int64_t(key / grid.bricks[0] % grid.bricks[1]);
+        if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
+        part.brick_keys.push_back(key);
+        part.brick_masks.push_back(grid.brick_masks[k]);
+        part.brick_first.push_back(part.cells.size());
+        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[k]);
+        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[k]));
+    }
+    part.index_bricks();
+    return part;
+}
+
+// A position to 0.1 mm, as one key.
+std::uint64_t place_key(const std::array<float, 3>& p) {
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) key = key << 21 | (std::uint64_t(std::llround(double(p[a]) * 1e4)) & 0x1fffff);
+    return key;
+}
+
+// `from`'s triangles (all, or those keep() takes) appended to `to`, vertices at one place made one.
+template <class Keep>
+void append_welded(Mesh& to, std::unordered_map<std::uint64_t, std::uint32_t>& at, const Mesh& from, Keep keep) {
+    for (const auto& t : from.triangles) {
+        if (!keep(t)) continue;
+        std::array<std::uint32_t, 3> joined{};
+        for (int k = 0; k < 3; ++k) {
+            const auto& p = from.positions[t[k]];
+            const auto [it, fresh] = at.try_emplace(place_key(p), std::uint32_t(to.positions.size()));
+            if (fresh) {
+                to.positions.push_back(p);
+                if (!from.colors.empty()) to.colors.push_back(from.colors[t[k]]);
+            }
+            joined[k] = it->second;
+        }
+        to.triangles.push_back(joined);
+    }
+}
+
+struct EdgeCounts {
+    std::size_t border = 0, border_at_tiles = 0, facing_apart = 0;
+};
+
+EdgeCounts edge_counts(const Mesh& m, double cell, std::int64_t tile) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    const auto at_tiles = [&](std::uint32_t v) {
+        for (int a = 0; a < 2; ++a) {
+            const double c = double(m.positions[v][a]) / cell;
+            if (std::abs(c - double(tile) * std::round(c / double(tile))) < 1) return true;
+        }
+        return false;
+    };
+    EdgeCounts counts;
+    for (const auto& [edge, uses] : directed) {
+        const auto back = directed.find({edge.second, edge.first});
+        const int back_uses = back == directed.end() ? 0 : back->second;
+        if (uses + back_uses == 1) {
+            ++counts.border;
+            counts.border_at_tiles += at_tiles(edge.first) && at_tiles(edge.second);
+        }
+        counts.facing_apart += uses >= 2 && back_uses == 0;
+    }
+    return counts;
+}
+
+// Each triangle as its corners' keys from the lowest on (its winding kept), sorted.
+std::vector<std::array<std::uint64_t, 3>> triangle_keys(const Mesh& m) {
+    std::vector<std::array<std::uint64_t, 3>> keys;
+    for (const auto& t : m.triangles) {
+        std::array<std::uint64_t, 3> k{place_key(m.positions[t[0]]), place_key(m.positions[t[1]]),
+                                       place_key(m.positions[t[2]])};
+        std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+        keys.push_back(k);
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 5) {
+        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own]\n");
+        return 2;
+    }
+    const std::string input = argv[1], prefix = argv[4];
+    const std::int64_t tile = std::atoll(argv[2]), halo = std::atoll(argv[3]);
+    const bool own = argc > 5 && std::string(argv[5]) == "--own";
+    const AccumulatedInputs accumulated = accumulate_inputs({input}, BuildOptions{});
+    const CellGrid& grid = accumulated.accumulation->grid;
+    const double iso = automatic_iso(grid), cell = grid.spec.cell_size;
+    std::printf("grid %u x %u x %u cells of %.4f, iso %.1f; tiles of %lld cells, halo %lld%s\n", grid.spec.dims[0],
+                grid.spec.dims[1], grid.spec.dims[2], cell, iso, static_cast<long long>(tile),
+                static_cast<long long>(halo), own ? ", each tile its own noise and outside" : "");
+    std::unordered_map<std::uint64_t, std::uint32_t> whole_at, tiled_at;
+    Mesh whole, tiled;
+    append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
+    const SheetSurvey survey = sheet_survey(grid, iso);
+    std::size_t tiles = 0;
+    for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
+        for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile) {
+            const CellGrid part = window_of(grid, x - halo, x + tile + halo, y - halo, y + tile + halo);
+            if (part.cells.empty()) continue;
+            ++tiles;
+            const Mesh sheet = own ? extract_sheet(part, iso) : extract_sheet(part, iso, survey);
+            append_welded(tiled, tiled_at, sheet, [&](const std::array<std::uint32_t, 3>& t) {
+                double c[2]{};
+                for (int k = 0; k < 3; ++k)
+                    for (int a = 0; a < 2; ++a) c[a] += double(sheet.positions[t[k]][a]) / (3 * cell);
+                return c[0] >= double(x) && c[0] < double(x + tile) && c[1] >= double(y) && c[1] < double(y + tile);
+            });
+        }
+    const auto a = triangle_keys(whole), b = triangle_keys(tiled);
+    std::vector<std::array<std::uint64_t, 3>> only_whole, only_tiled;
+    std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(only_whole));
+    std::set_difference(b.begin(), b.end(), a.begin(), a.end(), std::back_inserter(only_tiled));
+    for (const auto& [name, m] : {std::pair<const char*, const Mesh*>{"whole", &whole}, {"tiled", &tiled}}) {
+        const EdgeCounts e = edge_counts(*m, cell, tile);
+        std::printf("%s: %zu triangles; border edges %zu, within a cell of a tile's border %zu; edges whose "
+                    "triangles face apart %zu\n",
+                    name, m->triangles.size(), e.border, e.border_at_tiles, e.facing_apart);
+    }
+    std::size_t turned = 0; // of those only in the whole grid's, the tiles' have with the other winding
+    for (std::array<std::uint64_t, 3> k : only_whole) {
+        std::swap(k[1], k[2]);
+        turned += std::binary_search(only_tiled.begin(), only_tiled.end(), k);
+    }
+    std::printf("%zu tiles; triangles only in the whole grid's sheet %zu (of them facing the other way in the "
+                "tiles' %zu), only in the tiles' %zu\n",
+                tiles, only_whole.size(), turned, only_tiled.size());
+    for (Mesh* m : {&whole, &tiled}) {
+        m->origin = grid.spec.origin, m->cell_size = cell;
+        remove_small_pieces(*m, MinPiece{});
+    }
+    write_ply(whole, prefix + "-whole.ply");
+    write_ply(tiled, prefix + "-tiled.ply");
+}
