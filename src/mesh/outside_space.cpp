@@ -53,4 +53,26 @@ bool OutsideSpace::open(const std::array<double, 3>& point, const std::array<dou
     return false;
 }
 
+std::vector<double> outside_votes(const Mesh& mesh, const OutsideSpace& outside, double cell) {
+    using Vec = std::array<double, 3>;
+    std::vector<double> votes(mesh.triangles.size(), 0);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const auto& t = mesh.triangles[i];
+        Vec p[3];
+        for (int k = 0; k < 3; ++k) p[k] = {mesh.positions[t[k]][0], mesh.positions[t[k]][1], mesh.positions[t[k]][2]};
+        const Vec u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]},
+            w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+        Vec normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const double twice_area = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+        if (!(twice_area > 0)) continue;
+        for (double& c : normal) c /= twice_area;
+        const Vec centre{(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
+                         (p[0][2] + p[1][2] + p[2][2]) / 3};
+        const bool front = outside.open(centre, normal, cell),
+                   back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
+        if (front != back) votes[i] = front ? twice_area : -twice_area;
+    }
+    return votes;
+}
+
 } // namespace lasmesh

@@ -8,6 +8,8 @@
 // so one made from the whole grid serves a sheet of any part of it.
 #pragma once
 
+#include "lasmesh/mesh.hpp"
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -31,5 +33,10 @@ class OutsideSpace {
     std::array<std::int64_t, 3> size_{}; // voxels per axis, with one voxel of margin all round
     std::vector<char> reached_;          // per voxel, x fastest
 };
+
+// Per triangle of `mesh` (its positions relative to the grid origin): twice its area when the
+// outside lies in front of it and not behind, minus that when behind and not in front, else 0. A
+// piece whose triangles' votes add up below 0 faces in.
+std::vector<double> outside_votes(const Mesh& mesh, const OutsideSpace& outside, double cell);
 
 } // namespace lasmesh

@@ -629,26 +629,12 @@ void orient_normals(Planes& planes, const OutsideSpace& outside) {
 // triangles with the outside behind them and not in front exceeds the area with it in front and
 // not behind: a box's wall reached by the spanning tree from the floor inside the box.
 void face_outside(Mesh& mesh, const OutsideSpace& outside, double cell) {
-    const std::size_t nv = mesh.positions.size();
     const std::vector<std::uint32_t> part = connected_parts(mesh);
-    std::vector<double> votes(nv, 0); // per part
-    for (const auto& t : mesh.triangles) {
-        Vec p[3];
-        for (int k = 0; k < 3; ++k) p[k] = {mesh.positions[t[k]][0], mesh.positions[t[k]][1], mesh.positions[t[k]][2]};
-        const Vec u{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]},
-            w{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-        Vec normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-        const double twice_area = std::sqrt(dot(normal, normal));
-        if (!(twice_area > 0)) continue;
-        for (double& c : normal) c /= twice_area;
-        const Vec centre{(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3,
-                         (p[0][2] + p[1][2] + p[2][2]) / 3};
-        const bool front = outside.open(centre, normal, cell),
-                   back = outside.open(centre, Vec{-normal[0], -normal[1], -normal[2]}, cell);
-        if (front != back) votes[part[t[0]]] += front ? twice_area : -twice_area;
-    }
-    std::vector<char> turn(nv, 0);
-    for (std::uint32_t v = 0; v < nv; ++v) turn[v] = votes[part[v]] < 0;
+    const std::vector<double> triangle_votes = outside_votes(mesh, outside, cell);
+    std::vector<double> votes(mesh.positions.size(), 0); // per part
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) votes[part[mesh.triangles[i][0]]] += triangle_votes[i];
+    std::vector<char> turn(mesh.positions.size(), 0);
+    for (std::uint32_t v = 0; v < turn.size(); ++v) turn[v] = votes[part[v]] < 0;
     turn_over(mesh, turn);
 }
 
