@@ -7,7 +7,8 @@
 #    flag, so a library user never gets advice about flags they do not have;
 #  - every source file carries its SPDX licence line;
 #  - every file of code in src/ and kernels/ has a named mutation (tools/mutations.tsv), so
-#    tools/mutate.sh can show that some test fails when it is wrong.
+#    tools/mutate.sh can show that some test fails when it is wrong, and each mutation's
+#    original text stands once in its file.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/format.sh --check
@@ -32,4 +33,15 @@ if [ -n "$unmutated" ]; then
   echo "sources: no mutation in tools/mutations.tsv for: $unmutated" >&2
   exit 1
 fi
-echo "sources: no command-line flags in the library; every source file has its licence line; every file of code a mutation"
+# A mutation whose original text no longer stands once in its file (reformatted, renamed) would
+# only show up as "invalid" when tools/mutate.sh draws it.
+stale=$(grep -v '^#' tools/mutations.tsv | while IFS=$'\t' read -r name file _ original _; do
+  [ -n "$name" ] || continue
+  [ "$(grep -cF -- "$original" "$file" 2> /dev/null)" = 1 ] || echo "$name ($file)"
+done)
+if [ -n "$stale" ]; then
+  echo "sources: mutations whose original text is not in their file exactly once: $stale" >&2
+  exit 1
+fi
+echo "sources: no command-line flags in the library; every source file has its licence line; every file of code a mutation, each"
+echo "         mutation's original text once in its file"

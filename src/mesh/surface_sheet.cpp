@@ -1013,9 +1013,11 @@ Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::f
 }
 
 SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear) {
+    // The planes as extract makes them, up to the layers' spreads.
     Planes planes(grid, iso);
     estimate_normals(planes);
-    if (linear == LinearParts::tubes) estimate_tubes(planes);
+    const bool tubes = linear == LinearParts::tubes;
+    if (tubes) estimate_tubes(planes);
     SheetSurvey survey;
     if (!planes.scatter.empty()) {
         std::vector<double> spread, points, middle;
