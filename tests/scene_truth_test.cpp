@@ -172,4 +172,29 @@ TEST_CASE("one sheet between a wall's two faces gets half their area, a fat tube
     CHECK(railings.mesh_area / (2 * std::numbers::pi * rail.radius * length) == doctest::Approx(2.0).epsilon(0.03));
     CHECK(railings.covered < 0.5);
     CHECK(railings.covered > 0.05);
+    // The tube's sides are wound to face its axis: into the rail, none to its free side.
+    CHECK(railings.faces_free_side == 0);
+}
+
+TEST_CASE("a mesh's triangles face their surfaces' free side by their winding: up, out of a plate, not in") {
+    const lasgen::Scene s = deck();
+    lasmesh::Mesh mesh;
+    mesh.origin = {431250, 6700200, 10};
+    add_quad(mesh, s, {6, 3, 2.6}, {12, 0, 0}, {0, 2.5, 0});  // the first container's top, wound up
+    add_quad(mesh, s, {44, 5.985, 0}, {14, 0, 0}, {0, 0, 7}); // the deckhouse's first wall, outer face (-y)
+    add_quad(mesh, s, {44, 6.015, 0}, {14, 0, 0}, {0, 0, 7}); // its inner face, wound out of the room (-y)
+    add_quad(mesh, s, {30, 20, 0}, {2, 0, 0}, {0, 2, 0});     // the deck, wound up
+    lasgen::TruthReport r = lasgen::measure_against_truth(s, mesh, small());
+    CHECK(part(r, "containers").faces_free_side == 1);
+    CHECK(part(r, "deck").faces_free_side == 1);
+    // The two faces of the wall face one way: one of them into the plate's middle.
+    CHECK(part(r, "walls").faces_free_side == doctest::Approx(0.5).epsilon(1e-6));
+    CHECK(part(r, "pipes").faces_free_side == -1); // no mesh near them
+    CHECK(r.faces_free_side == doctest::Approx((30.0 + 98 + 4) / (30 + 2 * 98 + 4)).epsilon(1e-6));
+
+    lasmesh::Mesh turned;
+    turned.origin = mesh.origin;
+    add_quad(turned, s, {6, 3, 2.6}, {0, 2.5, 0}, {12, 0, 0}); // the top again, wound down
+    r = lasgen::measure_against_truth(s, turned, small());
+    CHECK(part(r, "containers").faces_free_side == 0);
 }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <iterator>
 #include <map>
 #include <numbers>
@@ -782,4 +783,78 @@ TEST_CASE("a part of the grid that cuts a box, meshed with the whole grid's outs
     CAPTURE(expected.size());
     CHECK(expected.size() > 1000);
     CHECK(count_differing(expected, got) == 0);
+}
+
+TEST_CASE("a room of plates on a floor, scanned inside and out: the floor faces up on both sides of its walls") {
+    // A room of 3 cm plates scanned on both faces (walls round x, y in 2..4 m, 1.5 m high, and a
+    // roof) on a floor of 6 x 6 m, scanned inside the room too, but not in a strip 10 cm wide round
+    // it outside (so that the floor inside is reached over the walls only), 1 cm of noise, about
+    // 40 points a face per 6.25 cm cell. Each plate is one layer of cells, whose sheet is split
+    // into its two faces; the floor inside meets the walls' inner faces, and the room's inside is
+    // closed: no outside tells its floor's side. Triangles face by their winding (as a viewer
+    // culls them), not by vertex normals.
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 23;
+    auto next = [&] { return uniform(state); };
+    auto noise = [&] { return (next() + next() + next() + next() - 2.0) * 1.7320508075688772 * 0.01; };
+    while (points.size() < 360000) {
+        const double x = 6 * next(), y = 6 * next();
+        const double beyond = std::max({2 - x, x - 4, 2 - y, y - 4}); // past the room's walls
+        if (!(beyond > 0 && beyond < 0.1)) points.push_back(point(x, y, noise()));
+    }
+    for (int i = 0; i < 240000; ++i) {
+        const double side = i % 4 < 2 ? 2.0 : 4.0, face = side + (i % 2 ? 0.015 : -0.015), along = 2 + 2 * next();
+        const double up = 1.5 * next();
+        if (i % 8 < 4)
+            points.push_back(point(face + noise(), along, up));
+        else
+            points.push_back(point(along, face + noise(), up));
+    }
+    for (int i = 0; i < 80000; ++i)
+        points.push_back(point(2 + 2 * next(), 2 + 2 * next(), 1.5 + (i % 2 ? 0.015 : -0.015) + noise()));
+    test::TempDir dir;
+    test::write_file(dir.file("room.las"),
+                     test::las_with_points(points, {-0.05, -0.05, -0.05}, {6.05, 6.05, 1.55}, 8, 3, 0.001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::longest(96);
+    const CellGrid g = test::accumulate_file(dir.file("room.las"), grid);
+    REQUIRE(g.moments_exact());
+    const Mesh sheet = extract_sheet(g, automatic_iso(g));
+    double floor_in = 0, floor_in_down = 0, floor_out = 0, floor_out_down = 0, walls = 0, walls_in = 0, roof = 0,
+           roof_in = 0;
+    for (const auto& t : sheet.triangles) {
+        std::array<double, 3> c{}, n{};
+        const auto& a = sheet.positions[t[0]];
+        const auto& b = sheet.positions[t[1]];
+        const auto& d = sheet.positions[t[2]];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        n = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        for (int k = 0; k < 3; ++k) c[k] = sheet.origin[k] + (a[k] + b[k] + d[k]) / 3;
+        const double area = triangle_area(sheet, t);
+        const bool inside = c[0] > 2.2 && c[0] < 3.8 && c[1] > 2.2 && c[1] < 3.8;
+        const bool outside = c[0] < 1.8 || c[0] > 4.2 || c[1] < 1.8 || c[1] > 4.2;
+        if (c[2] < 0.1 && inside) floor_in += area, floor_in_down += n[2] < 0 ? area : 0;
+        if (c[2] < 0.1 && outside && c[0] > 0.2 && c[0] < 5.8 && c[1] > 0.2 && c[1] < 5.8)
+            floor_out += area, floor_out_down += n[2] < 0 ? area : 0;
+        // A wall's face: away from its plate's middle (the nearer of x or y = 2 or 4).
+        const double dx = c[0] - (c[0] < 3 ? 2.0 : 4.0), dy = c[1] - (c[1] < 3 ? 2.0 : 4.0);
+        const bool along_x = std::abs(c[0] - 3) < 0.8;
+        const bool along_y = std::abs(c[1] - 3) < 0.8;
+        if (c[2] > 0.3 && c[2] < 1.2 && ((along_x && std::abs(dy) < 0.1) || (along_y && std::abs(dx) < 0.1)))
+            walls += area, walls_in += (along_x ? dy * n[1] : dx * n[0]) < 0 ? area : 0;
+        if (c[2] > 1.4 && inside) roof += area, roof_in += (c[2] - 1.5) * n[2] < 0 ? area : 0;
+    }
+    CAPTURE(floor_in);
+    CAPTURE(floor_out);
+    CAPTURE(walls);
+    CAPTURE(roof);
+    REQUIRE(floor_in > 2);
+    REQUIRE(floor_out > 25);
+    CHECK(floor_in_down == 0);
+    CHECK(floor_out_down == 0);
+    // Both faces of every wall and of the roof (twice their area), each facing out of its plate.
+    CHECK(walls > 2 * 0.9 * 4 * 1.6 * 0.9);
+    CHECK(walls_in < 0.01 * walls);
+    CHECK(roof > 2 * 0.9 * 1.6 * 1.6);
+    CHECK(roof_in < 0.01 * roof);
 }

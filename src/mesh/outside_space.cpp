@@ -48,6 +48,7 @@ bool OutsideSpace::open(const std::array<double, 3>& point, const std::array<dou
             v[a] = static_cast<std::int64_t>(std::floor((point[a] + direction[a] * steps * voxel) / voxel)) + 1;
             if (v[a] < 0 || v[a] >= size_[a]) return a != 2 || v[a] >= size_[a]; // past the sides or the top: outside
         }
+        if (v[2] == 0) return false; // below the grid's floor: not outside (the bottom margin only carries the flood)
         if (reached_[index(v)]) return true;
     }
     return false;

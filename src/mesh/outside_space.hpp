@@ -3,7 +3,8 @@
 // voxels an axis, a voxel 2^k cells, one voxel of margin all round) where voxels near surface
 // cells are walls, flooded from its top through the others (a breadth-first search, six
 // neighbours). The inside of a closed box or of a sphere is never reached, nor the space under a
-// deck or a terrain that spans the grid: their top sides are outside. The sheet orients its
+// deck or a terrain that spans the grid: their top sides are outside (and below the grid's floor
+// is not, though the flood runs round under it). The sheet orients its
 // pieces by it (surface_sheet.hpp). It follows from the grid's size and its surface cells alone,
 // so one made from the whole grid serves a sheet of any part of it.
 #pragma once

@@ -517,6 +517,27 @@ void estimate_tubes(Planes& planes) {
     });
 }
 
+// Whether q continues the plate p is on: its normal within 14 degrees of p's. A plate (its
+// two-faced planes and their neighbours along it) is one sheet for two faces, so the orientation
+// it hands on holds only within it: the floor on its far side (a deckhouse's floor inside,
+// reached from the deck outside over a wall) is no continuation of the face the sheet's normal
+// points from. A plate's foot turns to a floor over a cell or two, each step gentle enough to
+// pass for one smooth surface (smooth_cosine), hence the stricter angle.
+bool in_plate(const Planes& planes, std::uint32_t p, std::uint32_t q) {
+    return std::abs(dot(planes.normal[p], planes.normal[q])) >= 0.97;
+}
+
+// Whether a neighbour of p is a plate's plane.
+bool next_to_plate(const Planes& planes, std::uint32_t p) {
+    bool near = false;
+    planes.for_each_neighbour(p, [&](std::uint32_t q) { near = near || planes.two_faced(q); });
+    return near;
+}
+
+// A piece faces the way the outside says when the point counts of its planes that see it one
+// way, less the other, are at least this share of its points.
+constexpr double outside_min_share = 0.01;
+
 // Neighbouring planes closer to parallel than this (the cosine of 25 degrees) continue one smooth
 // surface; at a box's edge (90 degrees) the cells' planes turn in steps of about 45.
 constexpr double smooth_cosine = 0.9;
@@ -527,9 +548,12 @@ constexpr double smooth_cosine = 0.9;
 // meet. A plane whose neighbourhood sees the outside on one side only (`outside_side`, from
 // OutsideSpace: a box's wall, a roof, a deck) joins a piece only facing the way the piece's first such
 // plane does: a box's wall reached from a floor inside the box (as on decks scanned under their
-// containers) starts a piece of its own instead of turning inward. Then each piece faces the way
-// most of its planes that see a side say, by their point counts; with none, outward when it
-// encloses something (its normals point away from its centroid on the whole: a sphere), else up.
+// containers) starts a piece of its own instead of turning inward. A plate's planes (two faces in
+// one sheet) hand their orientation on only within the plate (in_plate), so the floors on its
+// two sides are oriented each on its own. Then each piece faces the way most of its planes that
+// see a side say, by their point counts, when they are outside_min_share of it; else outward
+// when it encloses something (its normals point away from its centroid on the whole: a
+// sphere), else up (a room's floor inside, which no outside sees).
 void orient_normals(Planes& planes, const OutsideSpace& outside) {
     const std::size_t n = planes.cell.size();
     const double h = planes.grid.spec.cell_size;
@@ -554,6 +578,7 @@ void orient_normals(Planes& planes, const OutsideSpace& outside) {
     constexpr int levels = 16;
     std::vector<std::int8_t> best(n, -1);
     std::vector<std::uint32_t> parent(n, no_plane);
+    std::vector<char> plate(n, 0); // a plate's plane, or reached along it from one and next to one
     std::vector<bool> done(n, false);
     std::array<std::vector<std::uint32_t>, levels + 1> buckets;
     std::vector<std::uint32_t> piece;
@@ -582,6 +607,7 @@ void orient_normals(Planes& planes, const OutsideSpace& outside) {
                 continue;
             }
             done[p] = true;
+            plate[p] = planes.two_faced(p) || (parent[p] != p && plate[parent[p]] && next_to_plate(planes, p));
             piece.push_back(p);
             if (turn) np = {-np[0], -np[1], -np[2]};
             seen[p] = side;
@@ -589,6 +615,7 @@ void orient_normals(Planes& planes, const OutsideSpace& outside) {
             votes += static_cast<double>(side) * static_cast<double>(planes.count[p]);
             planes.for_each_neighbour(p, [&](std::uint32_t q) {
                 if (done[q] || !along_plane(planes, p, q) || !along_plane(planes, q, p)) return;
+                if (plate[p] && !planes.two_faced(q) && !in_plate(planes, p, q)) return;
                 const auto w = static_cast<std::int8_t>(std::lround(std::abs(dot(np, planes.normal[q])) * levels));
                 if (w <= best[q]) return;
                 best[q] = w;
@@ -617,7 +644,9 @@ void orient_normals(Planes& planes, const OutsideSpace& outside) {
             up += w * planes.normal[p][2];
         }
         const bool encloses = std::abs(outward) > 0.5 * weight;
-        if (votes != 0 ? votes < 0 : encloses ? outward < 0 : up < 0)
+        // A few stray planes' view (one seeing past a plate's foot) does not turn a whole floor.
+        const bool decided = std::abs(votes) >= outside_min_share * weight;
+        if (decided ? votes < 0 : encloses ? outward < 0 : up < 0)
             for (std::uint32_t p : piece)
                 planes.normal[p] = {-planes.normal[p][0], -planes.normal[p][1], -planes.normal[p][2]};
     }

@@ -23,9 +23,10 @@ namespace lasmesh {
 //     it, which a cell face splits into tails whose centroids sit off the surface;
 //  2. the normals are oriented consistently by growing a maximum spanning tree over neighbouring
 //     cells, weighted by how parallel their planes are, and linking only cells that lie along each
-//     other's plane (so the two faces of a wall thicker than a cell keep opposite normals); the
-//     side each faces is the outside, as found by flooding a coarse voxel grid from above (the
-//     inside of a box, a pipe or a sphere is never reached), else outward or up;
+//     other's plane (so the two faces of a wall thicker than a cell keep opposite normals, and a
+//     plate thinner than one, one sheet for both faces, orients nothing beyond itself); the side
+//     each faces is the outside, as found by flooding a coarse voxel grid from above (the inside
+//     of a box, a pipe or a sphere is never reached), else outward or up;
 //  3. a signed distance is sampled at the cell corners next to surface cells: the distance to the
 //     plane of the nearest centroid among the corner's eight cells;
 //  4. marching cubes over the corner samples, rejecting crossings between planes that are not the

@@ -48,6 +48,14 @@ Primitive quad(const Vec3& origin, const Vec3& u, const Vec3& v, Rgb8 color, boo
     p.kind = PrimitiveKind::quad;
     p.origin = origin, p.u = u, p.v = v, p.color = color, p.can_have_holes = holes;
     p.weight = length(cross(u, v));
+    p.outside = scaled(cross(u, v), 1 / p.weight);
+    return p;
+}
+
+// The quad turned to face away from `solid`, a point on its solid side.
+Primitive facing_away(Primitive p, const Vec3& solid) {
+    const Vec3 d{p.origin[0] - solid[0], p.origin[1] - solid[1], p.origin[2] - solid[2]};
+    if (d[0] * p.outside[0] + d[1] * p.outside[1] + d[2] * p.outside[2] < 0) p.outside = scaled(p.outside, -1);
     return p;
 }
 
@@ -56,8 +64,8 @@ void plate(std::vector<Primitive>& out, const Vec3& origin, const Vec3& u, const
            Rgb8 color) {
     Vec3 n = cross(u, v);
     n = scaled(n, 0.5 * thickness / length(n));
-    out.push_back(quad(add(origin, n), u, v, color, true));
-    out.push_back(quad(add(origin, scaled(n, -1)), u, v, color, true));
+    out.push_back(facing_away(quad(add(origin, n), u, v, color, true), origin));
+    out.push_back(facing_away(quad(add(origin, scaled(n, -1)), u, v, color, true), origin));
 }
 
 Primitive cylinder(const Vec3& base, const Vec3& axis, double radius, Rgb8 color) {
@@ -76,11 +84,12 @@ Primitive cylinder(const Vec3& base, const Vec3& axis, double radius, Rgb8 color
 // A box standing on the deck, scanned on its top and four sides.
 void container(std::vector<Primitive>& out, const Vec3& corner, const Vec3& size, Rgb8 color) {
     const double x = size[0], y = size[1], z = size[2];
-    out.push_back(quad(add(corner, {0, 0, z}), {x, 0, 0}, {0, y, 0}, color));
-    out.push_back(quad(corner, {x, 0, 0}, {0, 0, z}, color));
-    out.push_back(quad(add(corner, {0, y, 0}), {x, 0, 0}, {0, 0, z}, color));
-    out.push_back(quad(corner, {0, y, 0}, {0, 0, z}, color));
-    out.push_back(quad(add(corner, {x, 0, 0}), {0, y, 0}, {0, 0, z}, color));
+    const Vec3 centre = add(corner, scaled(size, 0.5));
+    out.push_back(facing_away(quad(add(corner, {0, 0, z}), {x, 0, 0}, {0, y, 0}, color), centre));
+    out.push_back(facing_away(quad(corner, {x, 0, 0}, {0, 0, z}, color), centre));
+    out.push_back(facing_away(quad(add(corner, {0, y, 0}), {x, 0, 0}, {0, 0, z}, color), centre));
+    out.push_back(facing_away(quad(corner, {0, y, 0}, {0, 0, z}, color), centre));
+    out.push_back(facing_away(quad(add(corner, {x, 0, 0}), {0, y, 0}, {0, 0, z}, color), centre));
 }
 
 Primitive round_shape(PrimitiveKind kind, double radius, double minor_radius, Rgb8 color) {
@@ -137,6 +146,7 @@ void add_deck(Scene& s) {
     p.push_back(cylinder({40, 21.5, 0}, {0, 0, 6}, 0.25, pipe_blue));
     name_part(p, first, "pipes");
     p.push_back(cylinder({34, 12, 0}, {0, 0, 5}, 1.2, crane_blue));
+    p.back().two_sided = true;
     name_part(p, p.size() - 1, "crane");
 
     // Scan shadows: no points in these balls on the deck and the deckhouse walls.
@@ -320,7 +330,7 @@ Scene make_scene(const SceneOptions& o) {
     case SceneKind::box:
         s.name = "box";
         container(s.primitives, {-half, -half, -half}, {o.size, o.size, o.size}, o.color);
-        s.primitives.push_back(quad({-half, -half, -half}, {o.size, 0, 0}, {0, o.size, 0}, o.color));
+        s.primitives.push_back(facing_away(quad({-half, -half, -half}, {o.size, 0, 0}, {0, o.size, 0}, o.color), {}));
         break;
     case SceneKind::deck:
         s.name = "deck";

@@ -39,6 +39,13 @@ struct Primitive {
     std::string part;
     bool can_have_holes = false;
     double weight = 0; // share of the points, relative to the other primitives
+    // A quad's unit normal on the side of its free space (the other side is solid: the deck's
+    // underside, a container's inside, a plate's middle), which a mesh of it should face. Round
+    // shapes are solid inside: they face away from their axis or centre.
+    Vec3 outside{};
+    // Both sides are free space (the crane's pedestal: open at the top, the deck inside it
+    // scanned): a mesh of it may face either way.
+    bool two_sided = false;
 };
 
 struct Hole {

@@ -111,6 +111,36 @@ double distance_to(const Primitive& p, const Vec3& q) {
     return std::numeric_limits<double>::infinity();
 }
 
+namespace {
+
+// The unit direction from the primitive's surface nearest `q` to its free side.
+Vec3 free_side(const Primitive& p, const Vec3& q) {
+    auto unit = [](const Vec3& d) {
+        const double length = std::sqrt(dot_product(d, d));
+        return length > 0 ? Vec3{d[0] / length, d[1] / length, d[2] / length} : Vec3{};
+    };
+    if (p.two_sided) return {};
+    const Vec3 d = minus(q, p.origin);
+    switch (p.kind) {
+    case PrimitiveKind::quad: return p.outside;
+    case PrimitiveKind::cylinder: {
+        const Vec3 axis = unit(p.u);
+        const double t = dot_product(d, axis);
+        return unit({d[0] - t * axis[0], d[1] - t * axis[1], d[2] - t * axis[2]});
+    }
+    case PrimitiveKind::torus: {
+        const double ring = std::hypot(d[0], d[1]);
+        if (!(ring > 0)) return {};
+        return unit({d[0] - p.radius * d[0] / ring, d[1] - p.radius * d[1] / ring, d[2]});
+    }
+    case PrimitiveKind::sphere:
+    case PrimitiveKind::ball: return unit(d);
+    }
+    return {};
+}
+
+} // namespace
+
 TruthReport measure_against_truth(const Scene& scene, const lasmesh::Mesh& mesh, const TruthOptions& options) {
     TruthReport report;
     std::vector<std::size_t> surfaces, part_of(scene.primitives.size());
@@ -134,20 +164,45 @@ TruthReport measure_against_truth(const Scene& scene, const lasmesh::Mesh& mesh,
         report.mesh_area += 0.5 * std::sqrt(dot_product(n, n));
     }
     report.triangles = mesh.triangles.size();
-    // Each triangle, by its centroid, to its nearest part: where the triangle count goes.
+    // Each triangle, by its centroid, to its nearest part: where the triangle count goes; and
+    // whether it faces its nearest surface's free side (the triangles more than 60 degrees from
+    // that surface's plane, edge-on where a sheet ends or turns, left out).
     std::vector<std::size_t> triangle_part(mesh.triangles.size(), part_count);
+    std::vector<double> facing_area(mesh.triangles.size(), 0); // its area: + faces the free side, - the solid
     tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t t) {
-        Vec3 world{};
-        for (const std::uint32_t v : mesh.triangles[t])
-            for (int a = 0; a < 3; ++a) world[a] += (mesh.origin[a] + mesh.positions[v][a]) / 3;
-        const Vec3 q = to_local(scene, world);
+        Vec3 corner[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = mesh.triangles[t][k];
+            corner[k] = to_local(scene, {mesh.origin[0] + mesh.positions[v][0], mesh.origin[1] + mesh.positions[v][1],
+                                         mesh.origin[2] + mesh.positions[v][2]});
+        }
+        const Vec3 q{(corner[0][0] + corner[1][0] + corner[2][0]) / 3, (corner[0][1] + corner[1][1] + corner[2][1]) / 3,
+                     (corner[0][2] + corner[1][2] + corner[2][2]) / 3};
         double best = options.floating;
+        std::size_t nearest_surface = scene.primitives.size();
         for (std::size_t i : surfaces)
             if (const double d = distance_to(scene.primitives[i], q); d <= best)
-                best = d, triangle_part[t] = part_of[i];
+                best = d, triangle_part[t] = part_of[i], nearest_surface = i;
+        if (nearest_surface == scene.primitives.size()) return;
+        const Vec3 normal = cross_product(minus(corner[1], corner[0]), minus(corner[2], corner[0]));
+        const Vec3 free = free_side(scene.primitives[nearest_surface], q);
+        const double twice_area = std::sqrt(dot_product(normal, normal)), along = dot_product(normal, free);
+        if (std::abs(along) >= 0.5 * twice_area) facing_area[t] = along > 0 ? 0.5 * twice_area : -0.5 * twice_area;
     });
-    for (const std::size_t k : triangle_part)
-        if (k < part_count) ++report.parts[k].triangles;
+    std::vector<double> facing_free(part_count, 0), facing_decided(part_count, 0);
+    for (std::size_t t = 0; t < triangle_part.size(); ++t) {
+        const std::size_t k = triangle_part[t];
+        if (k == part_count) continue;
+        ++report.parts[k].triangles;
+        facing_free[k] += std::max(0.0, facing_area[t]);
+        facing_decided[k] += std::abs(facing_area[t]);
+    }
+    double free_all = 0, decided_all = 0;
+    for (std::size_t k = 0; k < part_count; ++k) {
+        report.parts[k].faces_free_side = facing_decided[k] > 0 ? facing_free[k] / facing_decided[k] : -1;
+        free_all += facing_free[k], decided_all += facing_decided[k];
+    }
+    report.faces_free_side = decided_all > 0 ? free_all / decided_all : -1;
     const std::vector<Vec3> samples = lasmesh::sample_surface(mesh, options.mesh_samples);
     std::vector<double> distance(samples.size());
     std::vector<std::size_t> nearest(samples.size());
@@ -238,22 +293,28 @@ TruthReport measure_against_truth(const Scene& scene, const lasmesh::Mesh& mesh,
 }
 
 std::string truth_table(const TruthReport& r, const TruthOptions& o) {
+    auto share = [](double s) {
+        char text[16] = "-";
+        if (s >= 0) std::snprintf(text, sizeof text, "%.1f%%", 100 * s);
+        return std::string(text);
+    };
     std::string out;
     char line[256];
-    std::snprintf(line, sizeof line,
-                  "| part | true m² | mesh m² | mesh / true | mean cm | p99 cm | covered (%.0f cm) | triangles |\n"
-                  "|---|---|---|---|---|---|---|---|\n",
-                  100 * o.tolerance);
+    std::snprintf(
+        line, sizeof line,
+        "| part | true m² | mesh m² | mesh / true | mean cm | p99 cm | covered (%.0f cm) | triangles | faces out |\n"
+        "|---|---|---|---|---|---|---|---|---|\n",
+        100 * o.tolerance);
     out += line;
     for (const PartError& p : r.parts) {
-        std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu |\n", p.part.c_str(),
-                      p.truth_area, p.mesh_area, p.truth_area > 0 ? p.mesh_area / p.truth_area : 0, 100 * p.mean,
-                      100 * p.p99, 100 * p.covered, p.triangles);
+        std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu | %s |\n",
+                      p.part.c_str(), p.truth_area, p.mesh_area, p.truth_area > 0 ? p.mesh_area / p.truth_area : 0,
+                      100 * p.mean, 100 * p.p99, 100 * p.covered, p.triangles, share(p.faces_free_side).c_str());
         out += line;
     }
-    std::snprintf(line, sizeof line, "| all | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu |\n", r.truth_area,
+    std::snprintf(line, sizeof line, "| all | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f%% | %zu | %s |\n", r.truth_area,
                   r.mesh_area, r.truth_area > 0 ? r.mesh_area / r.truth_area : 0, 100 * r.mean, 100 * r.p99,
-                  100 * r.covered, r.triangles);
+                  100 * r.covered, r.triangles, share(r.faces_free_side).c_str());
     out += line;
     std::snprintf(line, sizeof line,
                   "\nmesh to truth: median %.2f cm, p95 %.1f cm, max %.1f cm; floating (over %.0f cm) %.3f%% of the "
@@ -281,16 +342,19 @@ std::string truth_json(const TruthReport& r, const TruthOptions& o) {
     j["max"] = r.max;
     j["floating_share"] = r.floating_share;
     j["covered"] = r.covered;
+    j["faces_free_side"] = r.faces_free_side >= 0 ? nlohmann::ordered_json(r.faces_free_side) : nullptr;
     j["shadows_bridged"] = r.shadows_bridged >= 0 ? nlohmann::ordered_json(r.shadows_bridged) : nullptr;
     j["parts"] = nlohmann::ordered_json::array();
     for (const PartError& p : r.parts)
-        j["parts"].push_back({{"part", p.part},
-                              {"truth_area", p.truth_area},
-                              {"mesh_area", p.mesh_area},
-                              {"mean", p.mean},
-                              {"p99", p.p99},
-                              {"covered", p.covered},
-                              {"triangles", p.triangles}});
+        j["parts"].push_back(
+            {{"part", p.part},
+             {"truth_area", p.truth_area},
+             {"mesh_area", p.mesh_area},
+             {"mean", p.mean},
+             {"p99", p.p99},
+             {"covered", p.covered},
+             {"triangles", p.triangles},
+             {"faces_free_side", p.faces_free_side >= 0 ? nlohmann::ordered_json(p.faces_free_side) : nullptr}});
     return j.dump(2) + "\n";
 }
 

@@ -41,6 +41,10 @@ struct PartError {
     double mean = 0, p99 = 0;  // distance of that mesh to the part's surfaces
     double covered = 0;        // share of the part's true surface (outside shadows) within tolerance
     std::size_t triangles = 0; // the mesh's triangles whose centroid is nearest this part (floating ones left out)
+    // Share of those triangles' area, by their winding, facing their nearest surface's free side
+    // (Primitive::outside): not the solid's inside, not a plate's middle, not under the deck.
+    // Triangles more than 60 degrees from that surface's plane are left out; -1: none left.
+    double faces_free_side = -1;
 };
 
 struct TruthReport {
@@ -49,6 +53,7 @@ struct TruthReport {
     double mean = 0, median = 0, p95 = 0, p99 = 0, max = 0; // mesh to truth, over the mesh area
     double floating_share = 0;                              // of the mesh area, farther than TruthOptions::floating
     double covered = 0;           // share of the true surface (outside shadows) within tolerance
+    double faces_free_side = -1;  // over all parts, as PartError's
     double shadows_bridged = -1;  // share of the surface in scan shadows within tolerance; -1: none
     std::vector<PartError> parts; // in the order the scene first names them
 };
