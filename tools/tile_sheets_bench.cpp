@@ -40,7 +40,8 @@ namespace {
 // edges two of them share running opposite ways) are pieces; two tiles' pieces that share edges
 // (the same two positions, the two triangles nearly in one plane) run alike or against each
 // other as most of those edges say; the pairs with the most edges are joined first, and each
-// joined piece faces the way its triangles' outside_votes, summed with their turns, say.
+// joined piece keeps the way most of its area faced in its tiles (each tile's sheet faced its
+// pieces as the whole grid's sheet does: by the spanning tree and the outside).
 struct TilesFaced {
     std::size_t shared_edges = 0; // edges two tiles' sheets share
     std::size_t against = 0;      // of those, where the two ran against each other before
@@ -61,16 +62,27 @@ struct BorderEdge {
     std::array<double, 3> normal; // the triangle's, unit, the way it faces
 };
 
-std::array<double, 3> unit_normal(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
+// The cross product of triangle t's edges from its first corner: along its normal, the way its
+// winding faces, twice its area long.
+std::array<double, 3> cross_of(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
     const auto& a = m.positions[t[0]];
     const auto& b = m.positions[t[1]];
     const auto& c = m.positions[t[2]];
     const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]},
                  v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    std::array<double, 3> n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+}
+
+double twice_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
+    const std::array<double, 3> n = cross_of(m, t);
+    return std::hypot(n[0], n[1], n[2]);
+}
+
+std::array<double, 3> unit_normal(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
+    std::array<double, 3> n = cross_of(m, t);
+    const double length = std::hypot(n[0], n[1], n[2]);
     if (length > 0)
-        for (double& x : n) x /= length;
+        for (double& c : n) c /= length;
     return n;
 }
 
@@ -134,22 +146,21 @@ std::vector<std::uint32_t> oriented_regions(const Mesh& m) {
     return root;
 }
 
-TilesFaced face_tiles_as_one(std::vector<Mesh>& tiles, const OutsideSpace& outside, double cell) {
+TilesFaced face_tiles_as_one(std::vector<Mesh>& tiles) {
     TilesFaced report;
-    // The tiles' regions, numbered tile by tile, with their votes; each tile's border edges (used
-    // by one triangle).
+    // The tiles' regions, numbered tile by tile, with their areas (twice); each tile's border
+    // edges (used by one triangle).
     std::vector<std::vector<std::uint32_t>> node(tiles.size()); // per tile, per triangle
     std::vector<double> vote;
     std::vector<BorderEdge> border;
     for (std::size_t k = 0; k < tiles.size(); ++k) {
         const Mesh& m = tiles[k];
         const std::vector<std::uint32_t> region = oriented_regions(m);
-        const std::vector<double> votes = outside_votes(m, outside, cell);
         node[k].resize(m.triangles.size());
         for (std::uint32_t i = 0; i < region.size(); ++i) {
             if (region[i] == i) node[k][i] = static_cast<std::uint32_t>(vote.size()), vote.push_back(0);
             node[k][i] = node[k][region[i]];
-            vote[node[k][i]] += votes[i];
+            vote[node[k][i]] += twice_area(m, m.triangles[i]);
         }
         std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
         for (const auto& t : m.triangles)
@@ -206,7 +217,7 @@ TilesFaced face_tiles_as_one(std::vector<Mesh>& tiles, const OutsideSpace& outsi
         report.disagreeing += link.minority;
         if (!sets.join(link.a, link.b, link.against)) report.disagreeing += link.weight;
     }
-    // Each joined piece's vote, its pieces' signed by their turn against the root.
+    // Each joined piece's area as its tiles faced it, its pieces' signed by their turn against the root.
     std::vector<double> total(vote.size(), 0);
     std::vector<std::pair<std::uint32_t, bool>> root(vote.size());
     for (std::uint32_t n = 0; n < vote.size(); ++n) {
@@ -360,7 +371,7 @@ int main(int argc, char** argv) {
             tiles.push_back(std::move(sheet));
         }
     if (joined) {
-        const TilesFaced faced = face_tiles_as_one(tiles, *survey.outside, cell);
+        const TilesFaced faced = face_tiles_as_one(tiles);
         std::printf("joined: %zu edges shared by two tiles, %zu of them running against each other; %zu tiles' "
                     "pieces turned; %zu shared edges overruled\n",
                     faced.shared_edges, faced.against, faced.turned, faced.disagreeing);
@@ -372,9 +383,6 @@ int main(int argc, char** argv) {
     std::set_difference(b.begin(), b.end(), a.begin(), a.end(), std::back_inserter(only_tiled));
     for (const auto& [name, m] : {std::pair<const char*, const Mesh*>{"whole", &whole}, {"tiled", &tiled}}) {
         const EdgeCounts e = edge_counts(*m, cell, tile);
-        double out = 0, in = 0; // twice the areas facing the outside and away from it
-        for (const double v : outside_votes(*m, *survey.outside, cell)) (v > 0 ? out : in) += std::abs(v);
-        std::printf("%s: %.1f%% of the area the outside tells faces it\n", name, 100 * out / std::max(1e-30, out + in));
         std::printf("%s: %zu triangles; border edges %zu, within a cell of a tile's border %zu; edges whose "
                     "triangles face apart %zu\n",
                     name, m->triangles.size(), e.border, e.border_at_tiles, e.facing_apart);
