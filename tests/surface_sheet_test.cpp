@@ -12,7 +12,6 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
@@ -89,23 +88,9 @@ CellGrid floor_plate_rail() {
     return test::accumulate_file(dir.file("plate.las"), grid);
 }
 
-// The bricks of `grid` that hold cells x0 <= x < x1 (multiples of the brick), in its frame.
-CellGrid part_in_x(const CellGrid& grid, std::uint64_t x0, std::uint64_t x1) {
-    CellGrid part;
-    part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
-    part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
-    part.color_max_word = grid.color_max_word;
-    for (std::size_t b = 0; b < grid.brick_keys.size(); ++b) {
-        const std::uint64_t x = grid.brick_keys[b] % grid.bricks[0] * CellGrid::brick_size;
-        if (x < x0 || x >= x1) continue;
-        part.brick_keys.push_back(grid.brick_keys[b]);
-        part.brick_masks.push_back(grid.brick_masks[b]);
-        part.brick_first.push_back(part.cells.size());
-        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[b]);
-        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[b]));
-    }
-    part.index_bricks();
-    return part;
+// The bricks of `grid` that hold cells x0 <= x < x1, all of y and z.
+CellGrid part_in_x(const CellGrid& grid, std::int64_t x0, std::int64_t x1) {
+    return bricks_within(grid, x0, x1, 0, std::int64_t{grid.spec.dims[1]});
 }
 
 // The triangles whose centroid lies at x0 <= x < x1 (from the mesh's origin), each as its

@@ -22,7 +22,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -246,27 +245,6 @@ TilesFaced face_tiles_as_one(std::vector<Mesh>& tiles) {
     return report;
 }
 
-// The bricks of `grid` holding cells x0 <= x < x1 and y0 <= y < y1, in its frame.
-CellGrid window_of(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
-    const std::int64_t b = CellGrid::brick_size;
-    CellGrid part;
-    part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
-    part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
-    part.color_max_word = grid.color_max_word;
-    for (std::size_t k = 0; k < grid.brick_keys.size(); ++k) {
-        const std::uint64_t key = grid.brick_keys[k];
-        const auto bx = std::int64_t(key % grid.bricks[0]), by = std::int64_t(key / grid.bricks[0] % grid.bricks[1]);
-        if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
-        part.brick_keys.push_back(key);
-        part.brick_masks.push_back(grid.brick_masks[k]);
-        part.brick_first.push_back(part.cells.size());
-        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[k]);
-        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[k]));
-    }
-    part.index_bricks();
-    return part;
-}
-
 // A position to 0.1 mm, as one key.
 std::uint64_t place_key(const std::array<float, 3>& p) {
     std::uint64_t key = 0;
@@ -359,7 +337,7 @@ int main(int argc, char** argv) {
     std::vector<Mesh> tiles;
     for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
         for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile) {
-            const CellGrid part = window_of(grid, x - halo, x + tile + halo, y - halo, y + tile + halo);
+            const CellGrid part = bricks_within(grid, x - halo, x + tile + halo, y - halo, y + tile + halo);
             if (part.cells.empty()) continue;
             Mesh sheet = own ? extract_sheet(part, iso) : extract_sheet(part, iso, survey);
             std::erase_if(sheet.triangles, [&](const std::array<std::uint32_t, 3>& t) {

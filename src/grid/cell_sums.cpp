@@ -6,9 +6,31 @@
 #include "memory_guard.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <vector>
 
 namespace lasmesh {
+
+CellGrid bricks_within(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
+    const auto b = static_cast<std::int64_t>(CellGrid::brick_size);
+    CellGrid part;
+    part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
+    part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
+    part.color_max_word = grid.color_max_word;
+    for (std::size_t k = 0; k < grid.brick_keys.size(); ++k) {
+        const std::uint64_t key = grid.brick_keys[k];
+        const auto bx = static_cast<std::int64_t>(key % grid.bricks[0]),
+                   by = static_cast<std::int64_t>(key / grid.bricks[0] % grid.bricks[1]);
+        if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
+        part.brick_keys.push_back(key);
+        part.brick_masks.push_back(grid.brick_masks[k]);
+        part.brick_first.push_back(part.cells.size());
+        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[k]);
+        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[k]));
+    }
+    part.index_bricks();
+    return part;
+}
 
 BrickTable::BrickTable(const std::vector<std::uint64_t>& keys) {
     std::size_t capacity = 16; // at most half full: short probes

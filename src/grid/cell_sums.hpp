@@ -188,6 +188,11 @@ struct CellGrid {
     std::array<double, 6> scatter(const CellSums& sums) const;
 };
 
+// The bricks of `grid` that hold cells x0 <= x < x1 and y0 <= y < y1 (all of z), with their
+// cells, in the grid's own frame and size: a part of it, such as a tile and a halo round it,
+// that a sheet can be meshed from with the whole grid's survey (mesh/surface_sheet.hpp).
+CellGrid bricks_within(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1);
+
 // Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows
 // with the surface and is checked as it grows.
 struct MemoryNeed {

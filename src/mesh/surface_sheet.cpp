@@ -356,7 +356,6 @@ double layer_noise(const std::vector<double>& spread, const std::vector<double>&
 void estimate_thickness(Planes& planes, double h, const std::vector<double>& spread, const std::vector<double>& points,
                         const std::vector<double>& middle, double noise) {
     const std::size_t n = planes.cell.size();
-    constexpr double min_points = layer_min_points;
     // A cell more than 16 times the noise across holds more of the surfaces' shape than of their
     // noise: its layers gather other surfaces along the normal, and a plate a tenth of a cell
     // thick is many times the noise (the generated deck's walls were found at 6 and 12 cm cells,
@@ -364,7 +363,7 @@ void estimate_thickness(Planes& planes, double h, const std::vector<double>& spr
     if (!(noise > 0) || h > 16 * std::sqrt(noise)) return;
     std::vector<float> half(n, 0);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
-        if (points[p] < min_points) return;
+        if (points[p] < layer_min_points) return;
         const Vec& normal = planes.normal[p];
         const Vec& c = planes.centroid[p];
         // Two axes in the plane, to tell a plate's neighbours (spread both ways) from a rail's (a
@@ -378,7 +377,7 @@ void estimate_thickness(Planes& planes, double h, const std::vector<double>& spr
         std::size_t count = 0;
         double s11 = 0, s22 = 0, s12 = 0;
         planes.for_each_within(static_cast<std::uint32_t>(p), 1, [&](std::uint32_t q) {
-            if (points[q] < min_points || std::abs(dot(normal, planes.normal[q])) < 0.9) return;
+            if (points[q] < layer_min_points || std::abs(dot(normal, planes.normal[q])) < 0.9) return;
             near[count++] = spread[q];
             const Vec& m = planes.centroid[q];
             const Vec d{m[0] - c[0], m[1] - c[1], m[2] - c[2]};
