@@ -3,14 +3,17 @@
 # The sheet meshed tile by tile against the whole grid's, on the generated deck: the tiles' sheets
 # (each from its cells and a halo, with the whole grid's noise and outside) joined, and the whole
 # grid's, both against the deck's true surfaces (lasgen --measure), with the cracks the tiling adds.
-# Usage: tools/bench_tile_sheets.sh [POINTS] [TILE] [HALO] [--own]   (default 2,000,000 points, 64, 8)
+# Usage: tools/bench_tile_sheets.sh [POINTS] [TILE] [HALO] [--own] [--join]   (default 2,000,000 points, 64, 8)
+# --join: the tiles' regions turned to face as one (src/mesh/tile_facing) before they are joined.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 points=${1:-2000000} tile=${2:-64} halo=${3:-8}
 mkdir -p out/bench
 las=out/bench/deck-$points.las
 [ -s "$las" ] || build/lasgen --scene deck --points "$points" -o "$las"
-prefix=out/bench/tile-sheets-$points-$tile-$halo${4:+-own}
+suffix=""
+for option in "${@:4}"; do suffix+="${option#-}"; done
+prefix=out/bench/tile-sheets-$points-$tile-$halo$suffix
 build/tile_sheets_bench "$las" "$tile" "$halo" "$prefix" "${@:4}"
 for mesh in whole tiled; do
   echo; echo "$mesh:"

@@ -76,7 +76,7 @@ Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts
 // The rest looks a few cells around each cell, so a part of the grid (some of its bricks, with
 // the grid's size and origin) meshed with the whole grid's SheetSurvey gives the whole grid's
 // sheet there, but for the orientation near the part's edges: tiles can be meshed one by one,
-// each with a halo of cells round it, and their sheets joined. Measured on the generated decks
+// each with a halo of cells round it, and their sheets joined (tile_facing.hpp). Measured on the generated decks
 // (docs/design.md, "Over many machines").
 struct SheetSurvey {
     double noise = 0; // a variance, in the grid's units squared; 0: none measured (no plate is split)
