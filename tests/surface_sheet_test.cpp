@@ -730,6 +730,37 @@ TEST_CASE("a part of the grid, meshed with the whole grid's noise and outside, i
     CHECK(count_differing(expected, got) == 0);
 }
 
+TEST_CASE("the survey from parts of the grid, each with a halo, is the whole grid's survey") {
+    // Six parts of uneven sizes, each from its bricks and 8 cells round them; each hands on its
+    // own planes' layers and the outside's voxels its own surface cells are in.
+    const CellGrid g = floor_plate_rail();
+    const double iso = automatic_iso(g);
+    const std::array<std::int64_t, 4> x{0, 20, 44, 64}, y{0, 32, 64, 0};
+    std::vector<SurveyPart> parts;
+    std::size_t spreads = 0;
+    std::vector<std::array<std::int64_t, 3>> walls;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 2; ++j) {
+            const CellGrid part = bricks_within(g, x[i] - 8, x[i + 1] + 8, y[j] - 8, y[j + 1] + 8);
+            parts.push_back(sheet_survey_part(part, iso, {x[i], x[i + 1], y[j], y[j + 1]}));
+            spreads += parts.back().spreads.size();
+            walls.insert(walls.end(), parts.back().walls.begin(), parts.back().walls.end());
+        }
+    const SurveyPart whole = sheet_survey_part(g, iso, {0, 64, 0, 64});
+    CHECK(spreads == whole.spreads.size()); // each plane's layer once, by the part it lies in
+    CHECK(whole.spreads.size() > 1000);
+    std::sort(walls.begin(), walls.end());
+    CHECK(walls == whole.walls); // the parts' voxels are disjoint: a voxel is 2^0 cells here
+    const SheetSurvey expected = sheet_survey(g, iso), got = combined_survey(parts, g.spec.dims);
+    CHECK(expected.noise > 0.00005);
+    CHECK(got.noise == expected.noise);
+    REQUIRE(got.outside);
+    CHECK(*got.outside == *expected.outside);
+    // Not vacuous: the outside without one part's walls is another.
+    parts[2].walls.clear();
+    CHECK_FALSE(*combined_survey(parts, g.spec.dims).outside == *expected.outside);
+}
+
 TEST_CASE("a part of the grid that cuts a box, meshed with the whole grid's outside, faces out as the whole does") {
     // A box of 4 x 2 x 1.5 m on an 8 x 4 m deck, scanned under too (the floor inside it), its
     // edges not scanned (a gap of two cells), so that each wall and its roof is a piece of its

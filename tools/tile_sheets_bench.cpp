@@ -9,7 +9,8 @@
 // triangles face apart, and the triangles only one of the two meshes has. Writes PREFIX-whole.ply
 // and PREFIX-tiled.ply (small pieces removed from each, not simplified) for
 // `lasgen --scene deck --measure`. With --join, the tiles' regions are first turned to face as one
-// (src/mesh/tile_facing).
+// (src/mesh/tile_facing). Also says whether the survey made from the tiles (sheet_survey_part,
+// combined_survey) is the whole grid's.
 //
 // Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join]
 #include "build_steps.hpp"
@@ -125,6 +126,17 @@ int main(int argc, char** argv) {
     Mesh whole, tiled;
     append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
     const SheetSurvey survey = sheet_survey(grid, iso);
+    // The same survey from the tiles, each with its halo: the noise and the outside must be the whole grid's.
+    std::vector<SurveyPart> survey_parts;
+    for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
+        for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile)
+            survey_parts.push_back(
+                sheet_survey_part(bricks_within(grid, x - halo, x + tile + halo, y - halo, y + tile + halo), iso,
+                                  {x, x + tile, y, y + tile}));
+    const SheetSurvey from_tiles = combined_survey(survey_parts, grid.spec.dims);
+    std::printf("survey from the tiles: noise %s (%.3g), outside %s\n",
+                from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
+                *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
     std::vector<Mesh> tiles;
     for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
         for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile) {

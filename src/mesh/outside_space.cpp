@@ -7,9 +7,15 @@
 
 namespace lasmesh {
 
+int OutsideSpace::voxel_shift(const std::array<std::uint32_t, 3>& dims) {
+    int shift = 0;
+    while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift) > 256) ++shift;
+    return shift;
+}
+
 OutsideSpace::OutsideSpace(const std::array<std::uint32_t, 3>& dims,
-                           const std::vector<std::array<std::int64_t, 3>>& surface_cells) {
-    while ((std::int64_t{std::max({dims[0], dims[1], dims[2]})} >> shift_) > 256) ++shift_;
+                           const std::vector<std::array<std::int64_t, 3>>& surface_cells)
+    : shift_(voxel_shift(dims)) {
     for (int a = 0; a < 3; ++a) size_[a] = ((std::int64_t{dims[a]} + (1 << shift_) - 1) >> shift_) + 2;
     std::vector<char> wall(static_cast<std::size_t>(size_[0] * size_[1] * size_[2]), 0);
     // A voxel holding a surface cell, and its six neighbours, are walls: gaps of a voxel close.

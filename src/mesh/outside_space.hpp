@@ -25,6 +25,9 @@ class OutsideSpace {
     // Whether the space 2.5 and 3.5 voxels from `point` (relative to the grid origin) along
     // `direction` is outside (past the walls around the point's own voxel); `cell` is the grid's.
     bool open(const std::array<double, 3>& point, const std::array<double, 3>& direction, double cell) const;
+    // A voxel is 2^voxel_shift(dims) cells along each axis: at most 256 voxels an axis.
+    static int voxel_shift(const std::array<std::uint32_t, 3>& dims);
+    bool operator==(const OutsideSpace&) const = default;
 
   private:
     std::size_t index(const std::array<std::int64_t, 3>& v) const {

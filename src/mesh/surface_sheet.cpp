@@ -341,16 +341,26 @@ constexpr double plate_min_width = 0.3;
 // Layers of fewer points give too loose a spread to judge by.
 constexpr double layer_min_points = 8;
 
-// The scan's noise s^2: the median spread of the layers of layer_min_points or more (0 with
-// fewer than 16 of them: too few to tell the noise from the surfaces).
-double layer_noise(const std::vector<double>& spread, const std::vector<double>& points) {
-    std::vector<double> usable;
-    for (std::size_t p = 0; p < spread.size(); ++p)
-        if (points[p] >= layer_min_points) usable.push_back(spread[p]);
+// The scan's noise s^2: the median of the spreads of the layers of layer_min_points or more (0
+// with fewer than 16 of them: too few to tell the noise from the surfaces).
+double median_spread(std::vector<double> usable) {
     if (usable.size() < 16) return 0;
     const auto half_way = usable.begin() + static_cast<std::ptrdiff_t>(usable.size() / 2);
     std::nth_element(usable.begin(), half_way, usable.end());
     return *half_way;
+}
+
+// The spreads of the layers of layer_min_points or more, of the planes `keep` takes.
+template <class Keep>
+std::vector<double> usable_spreads(const std::vector<double>& spread, const std::vector<double>& points, Keep keep) {
+    std::vector<double> usable;
+    for (std::size_t p = 0; p < spread.size(); ++p)
+        if (points[p] >= layer_min_points && keep(p)) usable.push_back(spread[p]);
+    return usable;
+}
+
+double layer_noise(const std::vector<double>& spread, const std::vector<double>& points) {
+    return median_spread(usable_spreads(spread, points, [](std::size_t) { return true; }));
 }
 
 void estimate_thickness(Planes& planes, double h, const std::vector<double>& spread, const std::vector<double>& points,
@@ -1041,18 +1051,49 @@ Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::f
 }
 
 SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear) {
+    const GridSpec& spec = grid.spec;
+    return combined_survey({sheet_survey_part(grid, iso, {0, spec.dims[0], 0, spec.dims[1]}, linear)}, spec.dims);
+}
+
+SurveyPart sheet_survey_part(const CellGrid& part, double iso, const std::array<std::int64_t, 4>& own,
+                             LinearParts linear) {
     // The planes as extract makes them, up to the layers' spreads.
-    Planes planes(grid, iso);
+    Planes planes(part, iso);
     estimate_normals(planes);
     const bool tubes = linear == LinearParts::tubes;
     if (tubes) estimate_tubes(planes);
-    SheetSurvey survey;
+    const auto owned = [&](std::size_t p) {
+        const auto& c = planes.cell[p];
+        return c[0] >= own[0] && c[0] < own[1] && c[1] >= own[2] && c[1] < own[3];
+    };
+    SurveyPart survey;
     if (!planes.scatter.empty()) {
         std::vector<double> spread, points, middle;
-        layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
-        survey.noise = layer_noise(spread, points);
+        layer_spreads(planes, part.spec.cell_size, spread, points, middle);
+        survey.spreads = usable_spreads(spread, points, owned);
     }
-    survey.outside = std::make_shared<const OutsideSpace>(grid.spec.dims, planes.cell);
+    // One surface cell for each voxel of the outside's that holds some (OutsideSpace looks no further).
+    const int shift = OutsideSpace::voxel_shift(part.spec.dims);
+    for (std::size_t p = 0; p < planes.cell.size(); ++p)
+        if (owned(p)) {
+            const auto& c = planes.cell[p];
+            survey.walls.push_back({c[0] >> shift << shift, c[1] >> shift << shift, c[2] >> shift << shift});
+        }
+    std::sort(survey.walls.begin(), survey.walls.end());
+    survey.walls.erase(std::unique(survey.walls.begin(), survey.walls.end()), survey.walls.end());
+    return survey;
+}
+
+SheetSurvey combined_survey(const std::vector<SurveyPart>& parts, const std::array<std::uint32_t, 3>& dims) {
+    std::vector<double> spreads;
+    std::vector<std::array<std::int64_t, 3>> walls;
+    for (const SurveyPart& part : parts) {
+        spreads.insert(spreads.end(), part.spreads.begin(), part.spreads.end());
+        walls.insert(walls.end(), part.walls.begin(), part.walls.end());
+    }
+    SheetSurvey survey;
+    survey.noise = median_spread(std::move(spreads));
+    survey.outside = std::make_shared<const OutsideSpace>(dims, walls);
     return survey;
 }
 

@@ -83,6 +83,19 @@ struct SheetSurvey {
     std::shared_ptr<const OutsideSpace> outside;
 };
 SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear = LinearParts::planes);
+// The same from parts of the grid (tiles, each with a halo of 8 cells or more round it), each
+// read on its own: a part's share is its own planes' layers' spreads (those whose cell lies in
+// `own`: x from own[0] to own[1], y from own[2] to own[3], in the grid's cells) and one of its own
+// surface cells for each of the outside's voxels that holds some. Combined over parts that
+// cover the grid, it is the whole grid's survey: the same noise (the median of the same spreads)
+// and the same outside.
+struct SurveyPart {
+    std::vector<double> spreads;
+    std::vector<std::array<std::int64_t, 3>> walls; // ascending
+};
+SurveyPart sheet_survey_part(const CellGrid& part, double iso, const std::array<std::int64_t, 4>& own,
+                             LinearParts linear = LinearParts::planes);
+SheetSurvey combined_survey(const std::vector<SurveyPart>& parts, const std::array<std::uint32_t, 3>& dims);
 Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
                    LinearParts linear = LinearParts::planes);
 
