@@ -4,6 +4,7 @@
 // and the same mesh for any number of threads.
 #include "mesh/marching_cubes.hpp"
 #include "mesh/surface_sheet.hpp"
+#include "mesh/tiled_sheet.hpp"
 
 #include <doctest/doctest.h>
 
@@ -759,6 +760,49 @@ TEST_CASE("the survey from parts of the grid, each with a halo, is the whole gri
     // Not vacuous: the outside without one part's walls is another.
     parts[2].walls.clear();
     CHECK_FALSE(*combined_survey(parts, g.spec.dims).outside == *expected.outside);
+}
+
+TEST_CASE(
+    "a grid meshed tile by tile, the tiles joined, faces as the whole grid's sheet: a plate at a tile border too") {
+    // Tiles of 16 and 24 cells with halos of 8: the plate (x = 2 m, the 32nd cell) lies on a
+    // tile border in the first, inside a tile in the second. Its faces, which the border cuts
+    // from the rim between them, must still face away from the plate, the floor up.
+    const CellGrid g = floor_plate_rail();
+    const double iso = automatic_iso(g);
+    const Mesh whole = extract_sheet(g, iso);
+    // Of the plate's faces (more than 10 cm up, within 10 cm of x = 2, facing along x), the area
+    // facing away from its middle and the area facing it; of the floor, up and down.
+    const auto facing = [&](const Mesh& m) {
+        std::array<double, 4> area{};
+        for (const auto& t : m.triangles) {
+            const auto& a = m.positions[t[0]];
+            const auto& b = m.positions[t[1]];
+            const auto& c = m.positions[t[2]];
+            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+            const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            const double x = (a[0] + b[0] + c[0]) / 3 + m.origin[0], z = (a[2] + b[2] + c[2]) / 3 + m.origin[2];
+            if (std::abs(x - 2) < 0.1 && z > 0.1 && std::abs(n[0]) > 0.9 * length)
+                area[(x - 2) * n[0] > 0 ? 0 : 1] += length;
+            else if (z < 0.05 && std::abs(n[2]) > 0.9 * length)
+                area[n[2] > 0 ? 2 : 3] += length;
+        }
+        return area;
+    };
+    const std::array<double, 4> expected = facing(whole);
+    CHECK(expected[0] > 50 * expected[1]);
+    CHECK(expected[2] > 100 * expected[3]);
+    for (const std::int64_t tile : {16, 24}) {
+        CAPTURE(tile);
+        const Mesh tiled = extract_sheet_in_tiles(g, iso, tile, 8);
+        CHECK(std::abs(double(tiled.triangles.size()) - double(whole.triangles.size())) <
+              0.01 * double(whole.triangles.size()));
+        const std::array<double, 4> got = facing(tiled);
+        CHECK(got[0] == doctest::Approx(expected[0]).epsilon(0.02));
+        CHECK(got[1] < 2 * expected[1]);
+        CHECK(got[2] == doctest::Approx(expected[2]).epsilon(0.02));
+        CHECK(got[3] < 2 * expected[3]);
+    }
 }
 
 TEST_CASE("a part of the grid that cuts a box, meshed with the whole grid's outside, faces out as the whole does") {

@@ -67,6 +67,11 @@ struct LinkedTiles {
                 tiles[b].border.push_back({p, q, {0, 0, -1}, 0});
         }
     }
+    // Border edges that no other tile shares: where the region's surface ends.
+    void open(std::size_t k, int count) {
+        for (int i = 0; i < count; ++i, next += 1)
+            tiles[k].border.push_back({{next, 0, 0}, {next + 0.5f, 0, 0}, {0, 0, 1}, 0});
+    }
     std::vector<int> turned() const {
         std::vector<int> which;
         const std::vector<std::vector<char>> turns = facing_turns(tiles);
@@ -133,19 +138,19 @@ TEST_CASE("a tile's regions: its triangles joined where two share an edge runnin
 }
 
 TEST_CASE("a small region across a fold does not turn a piece that shares more edges with the pieces around it") {
-    // P1 and P2 (the same tile's two pieces, joined through R) each share 3 edges with Q, running
-    // alike; Q and Q2 are one piece (50 edges). A small region s runs alike with P1 (5 edges) and
-    // against Q (4): it holds a fold. Joined pair by pair, the heaviest first, s would turn Q and
-    // Q2 (its 4 edges come before the 3s, which then disagree); summed, the pieces P1, P2, R and
-    // s share 3 + 3 - 4 = 2 edges more alike than against with Q and Q2.
+    // P1 and P2 (the same tile's two pieces, joined through R) each share 30 edges with Q, running
+    // alike; Q and Q2 are one piece (100 edges). A small region s runs alike with P1 (50 edges)
+    // and against Q (40): it holds a fold. Joined pair by pair, the heaviest first, s would turn Q
+    // and Q2 (its 40 edges come before the 30s, which then disagree); summed, the pieces P1, P2,
+    // R and s share 30 + 30 - 40 = 20 edges more alike than against with Q and Q2.
     LinkedTiles t({100, 100, 100, 1, 90, 90}); // P1, P2, R, s, Q, Q2
-    t.link(4, 5, 50, 0);
-    t.link(0, 2, 10, 0);
-    t.link(1, 2, 10, 0);
-    t.link(3, 0, 5, 0);
-    t.link(3, 4, 0, 4);
-    t.link(0, 4, 3, 0);
-    t.link(1, 4, 3, 0);
+    t.link(4, 5, 100, 0);
+    t.link(0, 2, 100, 0);
+    t.link(1, 2, 100, 0);
+    t.link(3, 0, 50, 0);
+    t.link(3, 4, 0, 40);
+    t.link(0, 4, 30, 0);
+    t.link(1, 4, 30, 0);
     CHECK(t.turned().empty());
 }
 
@@ -170,4 +175,17 @@ TEST_CASE("a region joined the wrong way early is turned back where most of its 
     }
     const std::vector<int> all_but_d{1, 2, 3, 4, 5};
     CHECK(t.turned() == all_but_d);
+}
+
+TEST_CASE("two large pieces faced apart by their tiles are not joined by a stray edge") {
+    // A, and B1 and B2 (one piece: 100 edges alike), each bordered by 200 edges no other tile
+    // shares, share one edge running against each other (a plate's rim cut by a tile border):
+    // too little of their borders to turn either. Each keeps its own facing. A piece C against A
+    // along 40 edges is turned.
+    LinkedTiles t({1000, 450, 450, 10}); // A, B1, B2, C
+    t.open(0, 200), t.open(1, 200), t.open(2, 200);
+    t.link(1, 2, 100, 0);
+    t.link(0, 1, 0, 1);
+    t.link(3, 0, 0, 40);
+    CHECK(t.turned() == std::vector<int>{3});
 }

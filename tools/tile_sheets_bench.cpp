@@ -21,6 +21,7 @@
 #include "mesh/outside_space.hpp"
 #include "mesh/surface_sheet.hpp"
 #include "mesh/tile_facing.hpp"
+#include "mesh/tiled_sheet.hpp"
 
 #include <algorithm>
 #include <array>
@@ -142,13 +143,7 @@ int main(int argc, char** argv) {
         for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile) {
             const CellGrid part = bricks_within(grid, x - halo, x + tile + halo, y - halo, y + tile + halo);
             if (part.cells.empty()) continue;
-            Mesh sheet = own ? extract_sheet(part, iso) : extract_sheet(part, iso, survey);
-            std::erase_if(sheet.triangles, [&](const std::array<std::uint32_t, 3>& t) {
-                double c[2]{};
-                for (int k = 0; k < 3; ++k)
-                    for (int a = 0; a < 2; ++a) c[a] += double(sheet.positions[t[k]][a]) / (3 * cell);
-                return c[0] < double(x) || c[0] >= double(x + tile) || c[1] < double(y) || c[1] >= double(y + tile);
-            });
+            Mesh sheet = tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, {x, x + tile, y, y + tile});
             tiles.push_back(std::move(sheet));
         }
     if (joined) {

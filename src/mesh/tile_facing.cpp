@@ -17,6 +17,12 @@ namespace {
 // plate's face folding back into its other face.
 constexpr double continues_cosine = 0.5;
 
+// Two pieces that their tiles faced apart join only where their shared edges' say is at least
+// this share of the smaller one's border (its edges used by one of its tile's triangles, shared
+// or not): a stray edge at a plate's rim does not turn a plate's face that a tile border cut from
+// it, while a deck faced down across a tile, bordered by its neighbours all round, turns.
+constexpr double join_share = 0.1;
+
 std::array<double, 3> cross_of(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
     const auto& a = m.positions[t[0]];
     const auto& b = m.positions[t[1]];
@@ -91,8 +97,9 @@ SharedEdges shared_edges(const std::vector<TileRegions>& tiles, const std::vecto
 
 // Joins the regions the pair with the largest net say first, summing a joined piece's say with
 // each other piece.
-void join_by_say(const SharedEdges& say, TurnSets& sets) {
+void join_by_say(const SharedEdges& say, const std::vector<double>& area, std::vector<double> border, TurnSets& sets) {
     std::vector<std::map<std::uint32_t, long long>> around(sets.parent.size()); // per joined piece's node
+    std::vector<double> own = area; // per joined piece's node: its area as its tiles faced it, less the rest
     for (const auto& [pair, s] : say)
         if (s != 0) around[pair.first][pair.second] = s, around[pair.second][pair.first] = s;
     using Entry = std::tuple<long long, std::int64_t, std::int64_t>; // |say|, then the lower pair first
@@ -111,6 +118,11 @@ void join_by_say(const SharedEdges& say, TurnSets& sets) {
         const auto at = around[a].find(b);
         if (at == around[a].end() || std::llabs(at->second) != size) continue; // an older sum
         const bool against = at->second < 0;
+        const double joined = own[a] + (against ? -own[b] : own[b]);
+        const bool apart = std::abs(joined) < std::abs(own[a]) + std::abs(own[b]); // their tiles faced them apart
+        if (apart && double(size) < join_share * std::min(border[a], border[b])) continue;
+        own[a] = joined, own[b] = against ? -joined : joined;
+        border[a] = border[b] = border[a] + border[b];
         sets.join(a, b, against);
         // The piece with more neighbours takes the other's: its say with each, turned if the two run against.
         const std::uint32_t keep = around[a].size() >= around[b].size() ? a : b, other = keep == a ? b : a;
@@ -169,6 +181,7 @@ TileRegions tile_regions(const Mesh& sheet) {
             }
         }
     regions.of_triangle.resize(n);
+    const double cell_area = sheet.cell_size > 0 ? sheet.cell_size * sheet.cell_size : 1;
     for (std::uint32_t i = 0; i < n; ++i) {
         const std::uint32_t r = find(i);
         if (r == i)
@@ -176,7 +189,7 @@ TileRegions tile_regions(const Mesh& sheet) {
         else
             regions.of_triangle[i] = regions.of_triangle[r];
         const std::array<double, 3> c = cross_of(sheet, sheet.triangles[i]);
-        regions.area[regions.of_triangle[i]] += 0.5 * std::hypot(c[0], c[1], c[2]);
+        regions.area[regions.of_triangle[i]] += 0.5 * std::hypot(c[0], c[1], c[2]) / cell_area;
     }
     for (const auto& [i, e] : border) {
         const auto& t = sheet.triangles[i];
@@ -198,12 +211,15 @@ std::vector<std::vector<char>> facing_turns(const std::vector<TileRegions>& tile
     for (const TileRegions& t : tiles)
         first_region.push_back(count), count += static_cast<std::uint32_t>(t.area.size());
     const SharedEdges say = shared_edges(tiles, first_region);
-    TurnSets sets(count);
-    join_by_say(say, sets);
-    // Each joined piece faces the way most of its area faced in its tiles.
     std::vector<double> area(count), kept(count, 0); // kept: per root, its pieces' area signed by their turn
     for (std::uint32_t k = 0; k < tiles.size(); ++k)
         for (std::size_t r = 0; r < tiles[k].area.size(); ++r) area[first_region[k] + r] = tiles[k].area[r];
+    std::vector<double> border(count, 0);
+    for (std::uint32_t k = 0; k < tiles.size(); ++k)
+        for (const TileRegions::BorderEdge& e : tiles[k].border) border[first_region[k] + e.region] += 1;
+    TurnSets sets(count);
+    join_by_say(say, area, border, sets);
+    // Each joined piece faces the way most of its area faced in its tiles.
     std::vector<std::pair<std::uint32_t, bool>> root(count);
     for (std::uint32_t r = 0; r < count; ++r) {
         root[r] = sets.find(r);
@@ -211,16 +227,19 @@ std::vector<std::vector<char>> facing_turns(const std::vector<TileRegions>& tile
     }
     std::vector<char> turn(count);
     for (std::uint32_t r = 0; r < count; ++r) turn[r] = (kept[root[r].first] < 0) != root[r].second;
-    // Then each region on its own, while turning one leaves more shared edges alike: each turn
-    // raises that count, so the passes end.
+    // Then each region on its own, where turning it leaves more shared edges alike (by
+    // join_share of its border more, when that turns it from its tile's facing): each turn raises
+    // the count of edges alike less join_share of the borders of the regions turned, so the
+    // passes end.
     std::vector<std::vector<std::pair<std::uint32_t, long long>>> around(count);
     for (const auto& [pair, s] : say)
         around[pair.first].emplace_back(pair.second, s), around[pair.second].emplace_back(pair.first, s);
     for (bool changed = true; changed;) {
         changed = false;
         for (std::uint32_t r = 0; r < count; ++r) {
-            long long gain = 0; // of shared edges running alike, were r turned
-            for (const auto& [other, s] : around[r]) gain += turn[r] == turn[other] ? -s : s;
+            long long alike = 0; // more shared edges running alike, were r turned
+            for (const auto& [other, s] : around[r]) alike += turn[r] == turn[other] ? -s : s;
+            const double gain = double(alike) + (turn[r] ? join_share : -join_share) * border[r];
             if (gain > 0) turn[r] = !turn[r], changed = true;
         }
     }

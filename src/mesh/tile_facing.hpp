@@ -33,7 +33,7 @@ struct TileRegions {
         std::uint32_t region = 0;
     };
     std::vector<std::uint32_t> of_triangle; // each triangle's region, numbered by their first triangles
-    std::vector<double> area;               // each region's
+    std::vector<double> area;               // each region's, in cells (of the sheet's cell size; else units)
     std::vector<BorderEdge> border;         // the edges one triangle uses, in the triangles' order
 };
 
@@ -45,9 +45,12 @@ TileRegions tile_regions(const Mesh& sheet);
 // pair whose edges say so by the widest margin first, a joined piece's edges to another added up
 // (agglomerative, so that a small region across a fold, alike with its neighbours on one side
 // and against them on the other, is outweighed by the edges of the pieces around it rather than
-// deciding for them); each joined piece keeps the way most of its area faced in its tiles. Then
-// each region is turned on its own where more of its shared edges would run alike (a local
-// search, as in correlation clustering: the joining is greedy). Depends on the tiles' order and
+// deciding for them); two pieces that their tiles faced apart join only where their say is a
+// tenth of the smaller's border or more (a stray edge at a plate's rim does not turn a face).
+// Each joined piece keeps the way most of its area faced in its tiles. Then each region is
+// turned on its own where more of its shared edges would run alike, by a tenth of its border
+// more when that turns it from its tile's facing (a local search, as in correlation clustering:
+// the joining is greedy). Depends on the tiles' order and
 // contents only.
 std::vector<std::vector<char>> facing_turns(const std::vector<TileRegions>& tiles);
 

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mesh/tiled_sheet.hpp"
+
+#include "mesh/tile_facing.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <unordered_map>
+
+namespace lasmesh {
+
+namespace {
+
+// A position's bits, as one key: the tiles' shared vertices are equal to the bit.
+struct PlaceBits {
+    std::size_t operator()(const std::array<float, 3>& p) const {
+        std::uint64_t h = 0;
+        for (const float c : p) h = (h ^ std::bit_cast<std::uint32_t>(c)) * 0x100000001b3ull;
+        return static_cast<std::size_t>(h);
+    }
+};
+struct SameBits {
+    bool operator()(const std::array<float, 3>& a, const std::array<float, 3>& b) const {
+        for (int k = 0; k < 3; ++k)
+            if (std::bit_cast<std::uint32_t>(a[k]) != std::bit_cast<std::uint32_t>(b[k])) return false;
+        return true;
+    }
+};
+
+} // namespace
+
+std::vector<std::array<std::int64_t, 4>> tile_windows(const GridSpec& grid, std::int64_t tile_cells) {
+    std::vector<std::array<std::int64_t, 4>> windows;
+    for (std::int64_t y = 0; y < std::int64_t{grid.dims[1]}; y += tile_cells)
+        for (std::int64_t x = 0; x < std::int64_t{grid.dims[0]}; x += tile_cells)
+            windows.push_back({x, std::min(x + tile_cells, std::int64_t{grid.dims[0]}), y,
+                               std::min(y + tile_cells, std::int64_t{grid.dims[1]})});
+    return windows;
+}
+
+Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
+                const std::array<std::int64_t, 4>& window) {
+    Mesh sheet = extract_sheet(part, iso, survey);
+    const double cell = part.spec.cell_size;
+    std::erase_if(sheet.triangles, [&](const std::array<std::uint32_t, 3>& t) {
+        double c[2]{};
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 2; ++a) c[a] += double(sheet.positions[t[k]][a]) / (3 * cell);
+        return c[0] < double(window[0]) || c[0] >= double(window[1]) || c[1] < double(window[2]) ||
+               c[1] >= double(window[3]);
+    });
+    return sheet;
+}
+
+Mesh extract_sheet_in_tiles(const CellGrid& grid, double iso, std::int64_t tile_cells, std::int64_t halo) {
+    const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile_cells);
+    const auto part_of = [&](const std::array<std::int64_t, 4>& w) {
+        return bricks_within(grid, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
+    };
+    std::vector<SurveyPart> survey_parts;
+    for (const auto& w : windows)
+        if (const CellGrid part = part_of(w); !part.cells.empty())
+            survey_parts.push_back(sheet_survey_part(part, iso, w));
+    const SheetSurvey survey = combined_survey(survey_parts, grid.spec.dims);
+    std::vector<Mesh> tiles;
+    std::vector<TileRegions> regions;
+    for (const auto& w : windows) {
+        const CellGrid part = part_of(w);
+        tiles.push_back(part.cells.empty() ? Mesh{} : tile_sheet(part, iso, survey, w));
+        regions.push_back(tile_regions(tiles.back()));
+    }
+    const std::vector<std::vector<char>> turns = facing_turns(regions);
+    Mesh joined;
+    joined.origin = grid.spec.origin, joined.cell_size = grid.spec.cell_size;
+    std::unordered_map<std::array<float, 3>, std::uint32_t, PlaceBits, SameBits> at;
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+        Mesh& m = tiles[k];
+        turn_regions(m, regions[k], turns[k]);
+        std::vector<std::uint32_t> index(m.positions.size(), ~std::uint32_t{0});
+        for (auto t : m.triangles) {
+            for (std::uint32_t& v : t) {
+                if (index[v] == ~std::uint32_t{0}) {
+                    const auto [it, fresh] = at.try_emplace(m.positions[v], std::uint32_t(joined.positions.size()));
+                    if (fresh) {
+                        joined.positions.push_back(m.positions[v]);
+                        if (!m.colors.empty()) joined.colors.push_back(m.colors[v]);
+                        if (!m.normals.empty()) joined.normals.push_back(m.normals[v]);
+                    }
+                    index[v] = it->second;
+                }
+                v = index[v];
+            }
+            joined.triangles.push_back(t);
+        }
+    }
+    return joined;
+}
+
+} // namespace lasmesh
