@@ -109,7 +109,7 @@ std::vector<std::array<std::uint64_t, 3>> triangle_keys(const Mesh& m) {
 
 int main(int argc, char** argv) {
     if (argc < 5) {
-        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own]\n");
+        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join]\n");
         return 2;
     }
     const std::string input = argv[1], prefix = argv[4];
@@ -128,24 +128,20 @@ int main(int argc, char** argv) {
     append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
     const SheetSurvey survey = sheet_survey(grid, iso);
     // The same survey from the tiles, each with its halo: the noise and the outside must be the whole grid's.
+    const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile);
+    const auto part_of = [&](const std::array<std::int64_t, 4>& w) {
+        return bricks_within(grid, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
+    };
     std::vector<SurveyPart> survey_parts;
-    for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
-        for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile)
-            survey_parts.push_back(
-                sheet_survey_part(bricks_within(grid, x - halo, x + tile + halo, y - halo, y + tile + halo), iso,
-                                  {x, x + tile, y, y + tile}));
+    for (const auto& w : windows) survey_parts.push_back(sheet_survey_part(part_of(w), iso, w));
     const SheetSurvey from_tiles = combined_survey(survey_parts, grid.spec.dims);
     std::printf("survey from the tiles: noise %s (%.3g), outside %s\n",
                 from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
                 *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
     std::vector<Mesh> tiles;
-    for (std::int64_t y = 0; y < std::int64_t{grid.spec.dims[1]}; y += tile)
-        for (std::int64_t x = 0; x < std::int64_t{grid.spec.dims[0]}; x += tile) {
-            const CellGrid part = bricks_within(grid, x - halo, x + tile + halo, y - halo, y + tile + halo);
-            if (part.cells.empty()) continue;
-            Mesh sheet = tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, {x, x + tile, y, y + tile});
-            tiles.push_back(std::move(sheet));
-        }
+    for (const auto& w : windows)
+        if (const CellGrid part = part_of(w); !part.cells.empty())
+            tiles.push_back(tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, w));
     if (joined) {
         std::vector<TileRegions> regions;
         for (const Mesh& sheet : tiles) regions.push_back(tile_regions(sheet));
