@@ -515,23 +515,27 @@ constexpr std::uint64_t thin_read_slice_bytes = 4ull << 20;
 constexpr std::uint32_t max_thin_grid_cells = 4096;
 
 std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid& grid, RunReport& r) {
+    return plan_thin_read(thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid)), grid.spec, grid.axes, r);
+}
+
+std::optional<ThinReadPlan> plan_thin_read(const std::vector<std::array<std::int64_t, 3>>& thin_at,
+                                           const GridSpec& spec, const std::array<AxisCells, 3>& axes, RunReport& r) {
     ThinReadPlan plan;
-    const std::vector<std::array<std::int64_t, 3>> thin_at = thin_cells(grid, o.iso ? *o.iso : automatic_iso(grid));
     if (thin_at.empty()) {
         r.thin_unrefined = "no thin parts found";
         return std::nullopt;
     }
-    for (const std::uint32_t d : grid.spec.dims)
+    for (const std::uint32_t d : spec.dims)
         if (std::uint64_t{d} * 2 > max_thin_grid_cells) {
             r.thin_unrefined =
                 "half the cell would take more than " + std::to_string(max_thin_grid_cells) + " cells an axis";
             return std::nullopt;
         }
-    const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
+    const std::array<std::int64_t, 3> dims{spec.dims[0], spec.dims[1], spec.dims[2]};
     plan.mesh_cells = blocks_around(thin_at, dims, 0, thin_mesh_reach);
     plan.read_cells = blocks_around(thin_at, dims, 0, thin_read_reach);
-    plan.spec = grid.spec;
-    plan.axes = grid.axes;
+    plan.spec = spec;
+    plan.axes = axes;
     return plan;
 }
 

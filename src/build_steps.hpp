@@ -6,7 +6,9 @@
 
 #include "grid/cell_sums.hpp"
 #include "lasmesh/build_mesh.hpp"
+#include "mesh/seam.hpp"
 #include "mesh/seam_corners.hpp"
+#include "mesh/tiled_sheet.hpp"
 #include "read/crs.hpp"
 #include "read/survey.hpp"
 
@@ -136,6 +138,9 @@ struct ThinReadPlan {
 // Finds the thin parts of `grid` (grid/thin_parts.hpp); nothing, and r.thin_unrefined says why,
 // when there are none or half the cell would not fit.
 std::optional<ThinReadPlan> plan_thin_read(const BuildOptions& o, const CellGrid& grid, RunReport& r);
+// The same from the thin cells found already (thin_cells, or the tiles': survey_tiles).
+std::optional<ThinReadPlan> plan_thin_read(const std::vector<std::array<std::int64_t, 3>>& thin_at,
+                                           const GridSpec& spec, const std::array<AxisCells, 3>& axes, RunReport& r);
 
 // Reads the inputs again for the points near the thin parts (without those the first read
 // `left_out`) into the grid of half the cell. Sets r.thin_cells and r.thin_read.
@@ -149,6 +154,17 @@ Refinement read_thin_parts(const ThinReadPlan& plan, const std::vector<std::stri
 // extract_sheet's SeamRequest; may wait for them).
 Mesh thin_parts_mesh(const Refinement& refined, double iso, bool iso_auto, const GridSpec& grid,
                      const std::function<const SeamCorners&()>& coarse_seam);
+
+// The finest sheet meshed tile by tile (sheets_of_tiles, with the tiles' survey), and the thin
+// parts (`refined`, when given) meshed at half the cell and joined to it where the two meet, as
+// mesh_grid joins them to the whole grid's sheet; `seam` says how the join went.
+struct TiledFinest {
+    Mesh mesh;
+    std::optional<SeamReport> seam;
+};
+TiledFinest finest_sheet_in_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
+                                  const TilePart& part_of, double iso, bool iso_auto, const SheetSurvey& survey,
+                                  const Refinement* refined);
 
 // plan_thin_read, then read_thin_parts.
 std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inputs,

@@ -2,7 +2,10 @@
 // One sheet per scanned surface: placed on the points (below the cell), one sheet for a thin
 // plate scanned from both sides, closed and consistently oriented where the surface is closed,
 // and the same mesh for any number of threads.
+#include "build_steps.hpp"
+#include "grid/thin_parts.hpp"
 #include "mesh/marching_cubes.hpp"
+#include "mesh/mesh_edit.hpp"
 #include "mesh/surface_sheet.hpp"
 #include "mesh/tiled_sheet.hpp"
 
@@ -67,8 +70,23 @@ double triangle_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
 // A floor of 4 x 4 m (one face), a 3 cm plate standing on it at x = 2 (faces at 1.985 and 2.015,
 // 3 x 1.8 m) and a rail of 2.5 cm radius at x = 1, z = 1 along y, all with 1 cm of noise (as
 // lasgen's, bounded at 3.46 sigma), about 40 points a face per cell, accumulated at 64 cells.
-CellGrid floor_plate_rail() {
+// The points in a grid of 64 cells along the longest axis, or (`fine`) of half that cell on the
+// same origin: the thin parts' grid.
+CellGrid grid_of(const std::vector<lasgen::GeneratedPoint>& points, const std::array<double, 3>& min,
+                 const std::array<double, 3>& max, bool fine) {
     test::TempDir dir;
+    test::write_file(dir.file("points.las"), test::las_with_points(points, min, max, 8, 3, 0.001));
+    AccumulateOptions grid;
+    grid.grid = GridRequest::longest(64);
+    CellGrid g = test::accumulate_file(dir.file("points.las"), grid);
+    if (!fine) return g;
+    grid.spec = g.spec;
+    grid.spec->cell_size /= 2;
+    for (std::uint32_t& d : grid.spec->dims) d *= 2;
+    return test::accumulate_file(dir.file("points.las"), grid);
+}
+
+CellGrid floor_plate_rail() {
     std::vector<lasgen::GeneratedPoint> points;
     std::uint64_t state = 17;
     auto next = [&] { return uniform(state); };
@@ -82,11 +100,22 @@ CellGrid floor_plate_rail() {
         const double t = 2 * std::numbers::pi * next();
         points.push_back(point(1 + 0.025 * std::cos(t) + noise(), 0.5 + 3 * next(), 1 + 0.025 * std::sin(t) + noise()));
     }
-    test::write_file(dir.file("plate.las"),
-                     test::las_with_points(points, {-0.05, -0.05, -0.05}, {4.05, 4.05, 1.85}, 8, 3, 0.001));
-    AccumulateOptions grid;
-    grid.grid = GridRequest::longest(64);
-    return test::accumulate_file(dir.file("plate.las"), grid);
+    return grid_of(points, {-0.05, -0.05, -0.05}, {4.05, 4.05, 1.85}, false);
+}
+
+// A floor of 4 x 4 m with a post 5 cm across standing on it at x = 1 m (the 16th cell of 6.4 cm,
+// on the border of tiles of 16 cells), y = 2 m, 1.2 m tall.
+CellGrid floor_post(bool fine) {
+    std::vector<lasgen::GeneratedPoint> points;
+    std::uint64_t state = 29;
+    auto next = [&] { return uniform(state); };
+    auto noise = [&] { return (next() + next() + next() + next() - 2.0) * 1.7320508075688772 * 0.005; };
+    for (int i = 0; i < 160000; ++i) points.push_back(point(4 * next(), 4 * next(), noise()));
+    for (int i = 0; i < 20000; ++i) {
+        const double t = 2 * std::numbers::pi * next();
+        points.push_back(point(1 + 0.025 * std::cos(t) + noise(), 2 + 0.025 * std::sin(t) + noise(), 1.2 * next()));
+    }
+    return grid_of(points, {-0.05, -0.05, -0.05}, {4.05, 4.05, 1.25}, fine);
 }
 
 // The bricks of `grid` that hold cells x0 <= x < x1, all of y and z.
@@ -803,6 +832,141 @@ TEST_CASE(
         CHECK(got[2] == doctest::Approx(expected[2]).epsilon(0.02));
         CHECK(got[3] < 2 * expected[3]);
     }
+}
+
+// How the tiles' samples at the seam's corners differ from the whole grid's sheet's: corners
+// whose value and normal are neither the whole grid's nor both negated (a tile whose planes there
+// face the other way), corners defined in one and not the other, and crossings to the next corner
+// judged otherwise where neither corner is negated (elsewhere the planes' facing decides).
+struct SeamDifferences {
+    std::size_t negated = 0, other = 0, undefined = 0, alike_flags = 0;
+};
+SeamDifferences seam_differences(const SeamCorners& got, const SeamCorners& expected) {
+    SeamDifferences d;
+    for (std::size_t i = 0; i < got.corners.size(); ++i) {
+        const auto& n = got.normal[i];
+        const auto& m = expected.normal[i];
+        if (got.value[i] == -expected.value[i] && got.value[i] != 0 && n[0] == -m[0] && n[1] == -m[1] && n[2] == -m[2])
+            ++d.negated;
+        else if (got.value[i] != expected.value[i] || n != m)
+            ++d.other;
+        d.undefined += (got.flags[i] & SeamCorners::defined) != (expected.flags[i] & SeamCorners::defined);
+    }
+    for (std::size_t i = 0; i < got.corners.size(); ++i) {
+        if (got.value[i] != expected.value[i]) continue;
+        const auto c = got.corner_of(got.corners[i]);
+        for (int a = 0; a < 3; ++a) {
+            auto q = c;
+            ++q[a];
+            const std::uint64_t key = got.key_of(q[0], q[1], q[2]);
+            const auto at = std::lower_bound(got.corners.begin(), got.corners.end(), key);
+            if (at == got.corners.end() || *at != key) continue;
+            if (got.value[std::size_t(at - got.corners.begin())] !=
+                expected.value[std::size_t(at - got.corners.begin())])
+                continue;
+            d.alike_flags += (got.flags[i] >> (1 + a) & 1) != (expected.flags[i] >> (1 + a) & 1);
+        }
+    }
+    return d;
+}
+
+// The whole grid's sheet's samples at the corners of `cells` (seam_corners_of).
+SeamCorners sampled_by_whole_grid(const CellGrid& g, double iso, const std::vector<std::uint64_t>& cells) {
+    const std::array<std::int64_t, 3> dims{g.spec.dims[0], g.spec.dims[1], g.spec.dims[2]};
+    SeamCorners sampled = seam_corners_of(cells, dims);
+    SeamRequest request{sampled, [&](SeamCorners&& c) { sampled = std::move(c); }};
+    CellGrid copy = g;
+    extract_sheet(std::move(copy), iso, LinearParts::planes, {}, &request);
+    return sampled;
+}
+
+TEST_CASE("tiles find the whole grid's thin cells and sample the seam's corners as its sheet does") {
+    // The rail (5 cm across, cells of 6.4 cm) is thin; tiles of 16 and 24 cells with halos of 8
+    // cut it, the plate and the floor. Their thin cells, gathered, are the whole grid's; their
+    // samples at the corners of the cells a cell round the rail, each corner from the tile that
+    // owns it, are those the whole grid's sheet gives, but for the way the planes face.
+    const CellGrid g = floor_plate_rail();
+    const double iso = automatic_iso(g);
+    const std::vector<std::array<std::int64_t, 3>> thin = thin_cells(g, iso);
+    REQUIRE(thin.size() > 40);
+    const std::array<std::int64_t, 3> dims{g.spec.dims[0], g.spec.dims[1], g.spec.dims[2]};
+    const SeamCorners expected = sampled_by_whole_grid(g, iso, blocks_around(thin, dims, 0, 1));
+    REQUIRE(expected.value.size() == expected.corners.size());
+    const auto defined = std::count_if(expected.flags.begin(), expected.flags.end(),
+                                       [](std::uint8_t f) { return (f & SeamCorners::defined) != 0; });
+    CHECK(defined > std::ptrdiff_t(expected.corners.size() / 4));
+    for (const std::int64_t tile : {16, 24}) {
+        CAPTURE(tile);
+        const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(g.spec, tile);
+        const TilePart part_of = [&](const std::array<std::int64_t, 4>& w) {
+            return bricks_within(g, w[0] - 8, w[1] + 8, w[2] - 8, w[3] + 8);
+        };
+        const TiledSurvey survey = survey_tiles(g.spec, windows, part_of, iso, true);
+        CHECK(survey.thin == thin);
+        SeamCorners got = seam_corners_of(blocks_around(thin, dims, 0, 1), dims);
+        sheets_of_tiles(g.spec, windows, part_of, iso, survey.survey, &got);
+        // Each corner's value and normal are the whole grid's, or both negated where the tile's
+        // planes there face the other way (here the rail's, which no outside decides).
+        const SeamDifferences d = seam_differences(got, expected);
+        CAPTURE(d.negated);
+        CHECK(d.other == 0);
+        CHECK(d.undefined == 0);
+        CHECK(d.alike_flags == 0);
+    }
+}
+
+TEST_CASE("the thin parts joined to the tiles' sheet as to the whole grid's") {
+    // The post meshed at half the cell and joined to the floor round its foot: with the tiles'
+    // sheet (tiles of 16 cells, whose border runs by the post), the seam joined as with the whole
+    // grid's sheet (the grid as one tile), and the same fine triangles.
+    const CellGrid g = floor_post(false);
+    const double iso = automatic_iso(g);
+    RunReport r;
+    const std::optional<ThinReadPlan> plan = plan_thin_read(thin_cells(g, iso), g.spec, g.axes, r);
+    REQUIRE(plan);
+    Refinement refined{plan->mesh_cells, floor_post(true)};
+    REQUIRE(refined.fine.spec.cell_size == doctest::Approx(g.spec.cell_size / 2).epsilon(1e-12));
+    const auto finest = [&](std::int64_t tile) {
+        const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(g.spec, tile);
+        const TilePart part_of = [&](const std::array<std::int64_t, 4>& w) {
+            return bricks_within(g, w[0] - 8, w[1] + 8, w[2] - 8, w[3] + 8);
+        };
+        const TiledSurvey survey = survey_tiles(g.spec, windows, part_of, iso, false);
+        return finest_sheet_in_tiles(g.spec, windows, part_of, iso, true, survey.survey, &refined);
+    };
+    const TiledFinest whole = finest(64), tiled = finest(16);
+    // The tiles sample the seam as the whole grid does, but for the way the planes face.
+    {
+        const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(g.spec, 16);
+        const TilePart part_of = [&](const std::array<std::int64_t, 4>& w) {
+            return bricks_within(g, w[0] - 8, w[1] + 8, w[2] - 8, w[3] + 8);
+        };
+        SeamCorners got = seam_corners_of(refined.cells, {g.spec.dims[0], g.spec.dims[1], g.spec.dims[2]});
+        sheets_of_tiles(g.spec, windows, part_of, iso, survey_tiles(g.spec, windows, part_of, iso, false).survey, &got);
+        const SeamDifferences d = seam_differences(got, sampled_by_whole_grid(g, iso, refined.cells));
+        CAPTURE(d.negated);
+        CHECK(d.other == 0);
+        CHECK(d.undefined == 0);
+        CHECK(d.alike_flags == 0);
+    }
+    REQUIRE(whole.seam);
+    REQUIRE(tiled.seam);
+    CAPTURE(whole.seam->open_before);
+    CAPTURE(whole.seam->open_after);
+    CAPTURE(tiled.seam->open_after);
+    CHECK(whole.seam->joined >= 2);
+    CHECK(whole.seam->open_after < 0.8 * whole.seam->open_before);
+    CHECK(tiled.seam->joined == whole.seam->joined);
+    CHECK(tiled.seam->open_after == doctest::Approx(whole.seam->open_after).epsilon(0.01));
+    // The fine triangles (in the refined cells): the rail's tube, the same in both.
+    const auto in_refined = [&](const Mesh& m) {
+        Mesh kept = m;
+        keep_triangles_in_blocks(kept, g.spec, 0, refined.cells, true);
+        return triangles_in_x(kept, -1, 10);
+    };
+    const std::vector<std::array<float, 9>> expected = in_refined(whole.mesh);
+    CHECK(expected.size() > 300);
+    CHECK(count_differing(expected, in_refined(tiled.mesh)) == 0);
 }
 
 TEST_CASE("a part of the grid that cuts a box, meshed with the whole grid's outside, faces out as the whole does") {

@@ -10,10 +10,14 @@
 // and PREFIX-tiled.ply (small pieces removed from each, not simplified) for
 // `lasgen --scene deck --measure`. With --join, the tiles' regions are first turned to face as one
 // (src/mesh/tile_facing). Also says whether the survey made from the tiles (sheet_survey_part,
-// combined_survey) is the whole grid's.
+// combined_survey) is the whole grid's. With --thin (and --join), both meshes have the thin parts
+// meshed at half the cell and joined to the sheet, as lasmesh does by default
+// (finest_sheet_in_tiles: the whole grid's as one tile, and the tiles'), and it says whether the
+// tiles find the whole grid's thin cells and sample the seam's corners as the whole grid does.
 //
-// Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join]
+// Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join] [--thin]
 #include "build_steps.hpp"
+#include "grid/thin_parts.hpp"
 #include "io/ply_writer.hpp"
 #include "lasmesh/build_mesh.hpp"
 #include "lasmesh/mesh_pieces.hpp"
@@ -105,18 +109,81 @@ std::vector<std::array<std::uint64_t, 3>> triangle_keys(const Mesh& m) {
     return keys;
 }
 
+// How two samplings of the same seam corners differ: corners whose value and normal are not the
+// other's, nor both negated (a tile facing the other way: SeamFaces signs each corner itself),
+// those negated, and those whose flags differ (a rejected crossing to the next corner: where a
+// tile's planes face otherwise than the whole grid's, that crossing can be judged otherwise).
+struct SampleDifferences {
+    std::size_t other = 0, negated = 0, flags = 0;
+};
+SampleDifferences sample_differences(const SeamCorners& a, const SeamCorners& b) {
+    SampleDifferences d;
+    for (std::size_t i = 0; i < a.corners.size(); ++i) {
+        const auto& n = a.normal[i];
+        const auto& m = b.normal[i];
+        d.flags += a.flags[i] != b.flags[i];
+        if (a.value[i] == b.value[i] && n == m) continue;
+        if (a.value[i] == -b.value[i] && n[0] == -m[0] && n[1] == -m[1] && n[2] == -m[2])
+            ++d.negated;
+        else
+            ++d.other;
+    }
+    return d;
+}
+
+// Both meshes with their thin parts joined (--thin): the whole grid's as one tile, and the tiles'.
+void meshes_with_thin_parts(const std::string& input, const CellGrid& grid, double iso,
+                            const std::vector<std::array<std::int64_t, 4>>& windows, const TilePart& part_of,
+                            Mesh& whole, Mesh& tiled) {
+    const std::vector<std::array<std::int64_t, 3>> thin = thin_cells(grid, iso);
+    const TiledSurvey tiles = survey_tiles(grid.spec, windows, part_of, iso, true);
+    std::printf("thin cells: whole grid %zu, tiles %zu, %s\n", thin.size(), tiles.thin.size(),
+                thin == tiles.thin ? "the same" : "NOT the same");
+    RunReport r;
+    const std::optional<ThinReadPlan> plan = plan_thin_read(tiles.thin, grid.spec, grid.axes, r);
+    if (!plan) {
+        std::printf("no thin parts refined: %s\n", r.thin_unrefined.c_str());
+        std::exit(1);
+    }
+    BuildObserver quiet;
+    const Refinement refined = read_thin_parts(*plan, {input}, {}, BuildOptions{}, quiet, r);
+    const std::vector<std::array<std::int64_t, 4>> one{{0, grid.spec.dims[0], 0, grid.spec.dims[1]}};
+    const std::array<std::int64_t, 3> dims{grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]};
+    const TilePart all = [&](const std::array<std::int64_t, 4>&) {
+        return bricks_within(grid, 0, dims[0], 0, dims[1]);
+    };
+    const SheetSurvey survey = sheet_survey(grid, iso);
+    SeamCorners by_whole = seam_corners_of(refined.cells, dims), by_tiles = by_whole;
+    sheets_of_tiles(grid.spec, one, all, iso, survey, &by_whole);
+    sheets_of_tiles(grid.spec, windows, part_of, iso, tiles.survey, &by_tiles);
+    const SampleDifferences d = sample_differences(by_whole, by_tiles);
+    std::printf("seam: %zu corners; the tiles' samples: %zu not the whole grid's, %zu negated, %zu with other "
+                "flags\n",
+                by_whole.corners.size(), d.other, d.negated, d.flags);
+    for (auto [name, windows_of, part, survey_of, mesh] :
+         {std::tuple{"whole", &one, &all, &survey, &whole},
+          std::tuple{"tiled", &windows, &part_of, &tiles.survey, &tiled}}) {
+        TiledFinest f = finest_sheet_in_tiles(grid.spec, *windows_of, *part, iso, true, *survey_of, &refined);
+        std::printf("%s: seam %.3g of %.3g of border left open (%zu stretches joined)\n", name, f.seam->open_after,
+                    f.seam->open_before, f.seam->joined);
+        *mesh = std::move(f.mesh);
+    }
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     if (argc < 5) {
-        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join]\n");
+        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join] [--thin]\n");
         return 2;
     }
     const std::string input = argv[1], prefix = argv[4];
     const std::int64_t tile = std::atoll(argv[2]), halo = std::atoll(argv[3]);
-    bool own = false, joined = false;
-    for (int i = 5; i < argc; ++i)
-        own = own || std::string(argv[i]) == "--own", joined = joined || std::string(argv[i]) == "--join";
+    bool own = false, joined = false, thin = false;
+    for (int i = 5; i < argc; ++i) {
+        const std::string option = argv[i];
+        own = own || option == "--own", joined = joined || option == "--join", thin = thin || option == "--thin";
+    }
     const AccumulatedInputs accumulated = accumulate_inputs({input}, BuildOptions{});
     const CellGrid& grid = accumulated.accumulation->grid;
     const double iso = automatic_iso(grid), cell = grid.spec.cell_size;
@@ -139,10 +206,17 @@ int main(int argc, char** argv) {
                 from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
                 *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
     std::vector<Mesh> tiles;
+    if (thin) { // both meshes made here; `tiles` stays empty
+        Mesh whole_thin, tiled_thin;
+        meshes_with_thin_parts(input, grid, iso, windows, part_of, whole_thin, tiled_thin);
+        whole = Mesh{}, whole_at.clear();
+        append_welded(whole, whole_at, whole_thin, [](const auto&) { return true; });
+        append_welded(tiled, tiled_at, tiled_thin, [](const auto&) { return true; });
+    }
     for (const auto& w : windows)
-        if (const CellGrid part = part_of(w); !part.cells.empty())
+        if (const CellGrid part = part_of(w); !thin && !part.cells.empty())
             tiles.push_back(tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, w));
-    if (joined) {
+    if (joined && !thin) {
         std::vector<TileRegions> regions;
         for (const Mesh& sheet : tiles) regions.push_back(tile_regions(sheet));
         const std::vector<std::vector<char>> turns = facing_turns(regions);

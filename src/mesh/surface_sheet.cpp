@@ -1097,8 +1097,8 @@ SheetSurvey combined_survey(const std::vector<SurveyPart>& parts, const std::arr
     return survey;
 }
 
-Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, LinearParts linear) {
-    return extract(part, iso, linear, nullptr, {}, nullptr, {}, &survey);
+Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, LinearParts linear, SeamRequest* seam) {
+    return extract(part, iso, linear, nullptr, {}, seam, {}, &survey);
 }
 
 } // namespace lasmesh

@@ -96,7 +96,9 @@ struct SurveyPart {
 SurveyPart sheet_survey_part(const CellGrid& part, double iso, const std::array<std::int64_t, 4>& own,
                              LinearParts linear = LinearParts::planes);
 SheetSurvey combined_survey(const std::vector<SurveyPart>& parts, const std::array<std::uint32_t, 3>& dims);
+// A part's sheet with the whole grid's survey; `seam`, when given, is sampled as the
+// SeamRequest of the extraction above (a tile's share of the seam's corners: tiled_sheet.hpp).
 Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
-                   LinearParts linear = LinearParts::planes);
+                   LinearParts linear = LinearParts::planes, SeamRequest* seam = nullptr);
 
 } // namespace lasmesh

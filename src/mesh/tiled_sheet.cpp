@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mesh/tiled_sheet.hpp"
 
+#include "grid/thin_parts.hpp"
 #include "mesh/tile_facing.hpp"
 
 #include <algorithm>
 #include <bit>
+#include <optional>
+#include <tuple>
 #include <unordered_map>
 
 namespace lasmesh {
@@ -38,9 +41,63 @@ std::vector<std::array<std::int64_t, 4>> tile_windows(const GridSpec& grid, std:
     return windows;
 }
 
-Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
-                const std::array<std::int64_t, 4>& window) {
-    Mesh sheet = extract_sheet(part, iso, survey);
+std::vector<std::array<std::int64_t, 3>> tile_thin_cells(const CellGrid& part, double iso,
+                                                         const std::array<std::int64_t, 4>& window) {
+    std::vector<std::array<std::int64_t, 3>> thin = thin_cells(part, iso);
+    std::erase_if(thin, [&](const std::array<std::int64_t, 3>& c) {
+        return c[0] < window[0] || c[0] >= window[1] || c[1] < window[2] || c[1] >= window[3];
+    });
+    return thin;
+}
+
+TiledSurvey survey_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
+                         const TilePart& part_of, double iso, bool thin) {
+    std::vector<SurveyPart> parts;
+    TiledSurvey tiled;
+    for (const auto& w : windows) {
+        const CellGrid part = part_of(w);
+        if (part.cells.empty()) continue;
+        parts.push_back(sheet_survey_part(part, iso, w));
+        if (!thin) continue;
+        const std::vector<std::array<std::int64_t, 3>> cells = tile_thin_cells(part, iso, w);
+        tiled.thin.insert(tiled.thin.end(), cells.begin(), cells.end());
+    }
+    std::sort(tiled.thin.begin(), tiled.thin.end(),
+              [](const auto& a, const auto& b) { return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]); });
+    tiled.survey = combined_survey(parts, grid.dims);
+    return tiled;
+}
+
+Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const std::array<std::int64_t, 4>& window,
+                SeamCorners* seam) {
+    std::optional<SeamRequest> request;
+    std::vector<std::size_t> near; // the indices in `seam` of the corners the tile samples
+    if (seam) {
+        SeamCorners mine;
+        mine.dims = seam->dims;
+        for (std::size_t i = 0; i < seam->corners.size(); ++i) {
+            const std::array<std::int64_t, 3> c = seam->corner_of(seam->corners[i]);
+            // The corners on the window's far sides too: a corner's flags look one corner on.
+            if (c[0] < window[0] || c[0] > window[1] || c[1] < window[2] || c[1] > window[3]) continue;
+            mine.corners.push_back(seam->corners[i]);
+            near.push_back(i);
+        }
+        const auto owned = [&](std::int64_t at, std::int64_t lo, std::int64_t hi, std::int64_t cells) {
+            return at >= lo && (at < hi || at == cells);
+        };
+        request = SeamRequest{std::move(mine), [&](SeamCorners&& sampled) {
+                                  for (std::size_t j = 0; j < near.size(); ++j) {
+                                      const std::array<std::int64_t, 3> c = sampled.corner_of(sampled.corners[j]);
+                                      if (!owned(c[0], window[0], window[1], seam->dims[0]) ||
+                                          !owned(c[1], window[2], window[3], seam->dims[1]))
+                                          continue;
+                                      seam->value[near[j]] = sampled.value[j];
+                                      seam->normal[near[j]] = sampled.normal[j];
+                                      seam->flags[near[j]] = sampled.flags[j];
+                                  }
+                              }};
+    }
+    Mesh sheet = extract_sheet(part, iso, survey, LinearParts::planes, request ? &*request : nullptr);
     const double cell = part.spec.cell_size;
     std::erase_if(sheet.triangles, [&](const std::array<std::uint32_t, 3>& t) {
         double c[2]{};
@@ -52,26 +109,23 @@ Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
     return sheet;
 }
 
-Mesh extract_sheet_in_tiles(const CellGrid& grid, double iso, std::int64_t tile_cells, std::int64_t halo) {
-    const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile_cells);
-    const auto part_of = [&](const std::array<std::int64_t, 4>& w) {
-        return bricks_within(grid, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
-    };
-    std::vector<SurveyPart> survey_parts;
-    for (const auto& w : windows)
-        if (const CellGrid part = part_of(w); !part.cells.empty())
-            survey_parts.push_back(sheet_survey_part(part, iso, w));
-    const SheetSurvey survey = combined_survey(survey_parts, grid.spec.dims);
+Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
+                     const TilePart& part_of, double iso, const SheetSurvey& survey, SeamCorners* seam) {
+    if (seam) { // a corner no tile samples (none of its tile's cells occupied) is undefined
+        seam->value.assign(seam->corners.size(), 0);
+        seam->normal.assign(seam->corners.size(), {});
+        seam->flags.assign(seam->corners.size(), 0);
+    }
     std::vector<Mesh> tiles;
     std::vector<TileRegions> regions;
     for (const auto& w : windows) {
         const CellGrid part = part_of(w);
-        tiles.push_back(part.cells.empty() ? Mesh{} : tile_sheet(part, iso, survey, w));
+        tiles.push_back(part.cells.empty() ? Mesh{} : tile_sheet(part, iso, survey, w, seam));
         regions.push_back(tile_regions(tiles.back()));
     }
     const std::vector<std::vector<char>> turns = facing_turns(regions);
     Mesh joined;
-    joined.origin = grid.spec.origin, joined.cell_size = grid.spec.cell_size;
+    joined.origin = grid.origin, joined.cell_size = grid.cell_size;
     std::unordered_map<std::array<float, 3>, std::uint32_t, PlaceBits, SameBits> at;
     for (std::size_t k = 0; k < tiles.size(); ++k) {
         Mesh& m = tiles[k];
@@ -94,6 +148,15 @@ Mesh extract_sheet_in_tiles(const CellGrid& grid, double iso, std::int64_t tile_
         }
     }
     return joined;
+}
+
+Mesh extract_sheet_in_tiles(const CellGrid& grid, double iso, std::int64_t tile_cells, std::int64_t halo) {
+    const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile_cells);
+    const TilePart part_of = [&](const std::array<std::int64_t, 4>& w) {
+        return bricks_within(grid, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
+    };
+    const TiledSurvey first = survey_tiles(grid.spec, windows, part_of, iso, false);
+    return sheets_of_tiles(grid.spec, windows, part_of, iso, first.survey);
 }
 
 } // namespace lasmesh
