@@ -180,6 +180,14 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                       double seconds_before, const Refinement* refined = nullptr,
                       const ThinReadPlan* thin_read = nullptr);
 
+// A window of the plan's grid (x from window[0] to window[1], y from window[2] to window[3], in
+// its cells) and `halo` cells round it, read from the files of the tiles that hold them: the
+// bricks bricks_within would cut from the whole grid, with the geometry of `frame` (its spec,
+// axes, raw frame, colour and moments; not its cells). Throws Error (input) naming a tile's file
+// that is missing, damaged or another plan's.
+CellGrid planned_part(const TilePlan& plan, const std::array<std::int64_t, 4>& window, std::int64_t halo,
+                      const CellGrid& frame);
+
 // For a plan's tile jobs and its merge (src/tile_plan.cpp): the plan's inputs; `options` with
 // the plan's read fields (grid, bounds, CRS); and open_survey of the inputs as planned, refusing
 // (Error input) an input whose size or point count changed since.

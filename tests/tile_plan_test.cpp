@@ -6,11 +6,13 @@
 
 #include "build_steps.hpp"
 #include "grid/tile_cells.hpp"
+#include "mesh/tiled_sheet.hpp"
 
 #include <doctest/doctest.h>
 
 #include "test_support.hpp"
 
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -119,6 +121,57 @@ TEST_CASE("plan_tiles, run_tile and merge_tiles: the outputs of build_mesh, byte
     CHECK(contains(error_text([&] { plan_tiles({input}, scanned, 2.5); }), "a plan reads headers only"));
     merged.tile_size = read.tile_size / 2; // the plan fixes a tileset's tiles
     CHECK(contains(error_text([&] { merge_tiles(read, merged); }), "the plan fixes the tiles' size"));
+}
+
+TEST_CASE("a tile's part with a halo, read from the tiles' files, is the whole grid's cells there") {
+    // The torus in tiles of 2.5 (24 cells); each tile's window with halos of 8 and 30 cells (past
+    // its neighbours into the next), and a window of the grid's last cells beyond every tile.
+    test::TempDir dir;
+    lasgen::SceneOptions scene;
+    scene.kind = lasgen::SceneKind::torus;
+    const std::string input = dir.file("torus.las");
+    test::write_file(input, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), 60000, 4));
+    BuildOptions options;
+    options.grid = GridRequest::longest(96);
+    TilePlan plan = plan_tiles({input}, options, 2.5);
+    REQUIRE(plan.tiles.size() >= 9);
+    write_plan(plan, dir.file("torus.plan.json"));
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k) run_tile(plan, k, options);
+    AccumulateOptions whole_grid;
+    whole_grid.spec = plan.grid;
+    const CellGrid whole = test::accumulate_file(input, whole_grid);
+    REQUIRE(whole.occupied_cells() > 1000);
+    std::vector<std::array<std::int64_t, 4>> windows = tile_windows(plan.grid, plan.tile_cells);
+    const auto d = [&](int a) { return std::int64_t{plan.grid.dims[a]}; };
+    windows.push_back({d(0) - 4, d(0), d(1) - 4, d(1)});
+    std::size_t compared = 0;
+    for (const auto& w : windows)
+        for (const std::int64_t halo : {8, 30}) {
+            CAPTURE(w[0]);
+            CAPTURE(w[2]);
+            CAPTURE(halo);
+            const CellGrid got = planned_part(plan, w, halo, whole);
+            const CellGrid expected = bricks_within(whole, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
+            CHECK(got.brick_keys == expected.brick_keys);
+            CHECK(got.brick_masks == expected.brick_masks);
+            CHECK(got.brick_first == expected.brick_first);
+            REQUIRE(got.cells.size() == expected.cells.size());
+            std::size_t differing = 0;
+            for (std::size_t c = 0; c < got.cells.size(); ++c) {
+                const CellSums &a = got.cells[c], &b = expected.cells[c];
+                differing +=
+                    a.count != b.count || a.position != b.position || a.color != b.color || a.moments != b.moments;
+            }
+            CHECK(differing == 0);
+            CHECK(got.find(0, 0, 0) == nullptr); // indexed: a cell of the part is found, one outside is not
+            if (!got.cells.empty()) {
+                const auto at =
+                    got.cell_in_brick(got.brick_keys.front(), unsigned(std::countr_zero(got.brick_masks.front())));
+                CHECK(got.find(at[0], at[1], at[2]) == &got.cells.front());
+            }
+            compared += got.cells.size();
+        }
+    CHECK(compared > 2 * whole.occupied_cells());
 }
 
 TEST_CASE("a tile's cells: whole bricks; a plan's tiles rounded again to a coarser grid give that grid's tiles") {

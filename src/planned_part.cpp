@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: Apache-2.0
+// planned_part: a window of a plan's grid and a halo round it, read from the files of the tiles
+// that hold them, as a part of the grid (mesh/tiled_sheet.hpp's TilePart): the merge's way to
+// mesh the grid tile by tile without holding it whole.
+#include "build_steps.hpp"
+#include "grid/tile_cells.hpp"
+#include "lasmesh/error.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <tuple>
+
+namespace lasmesh {
+
+CellGrid planned_part(const TilePlan& plan, const std::array<std::int64_t, 4>& window, std::int64_t halo,
+                      const CellGrid& frame) {
+    const std::int64_t x0 = window[0] - halo, x1 = window[1] + halo, y0 = window[2] - halo, y1 = window[3] + halo;
+    const auto b = static_cast<std::int64_t>(CellGrid::brick_size);
+    CellGrid part;
+    part.spec = frame.spec, part.axes = frame.axes, part.scale = frame.scale, part.offset = frame.offset;
+    part.bricks = frame.bricks, part.color = frame.color, part.moments = frame.moments;
+    part.color_max_word = frame.color_max_word;
+    // Each brick of the part from the one tile that holds it (the tiles hold disjoint bricks),
+    // in ascending key order as a grid keeps them.
+    std::vector<TileCells> tiles;
+    std::vector<std::tuple<std::uint64_t, std::size_t, std::size_t>> bricks; // key, tile, brick
+    for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
+        const PlannedTile& t = plan.tiles[k];
+        if (t.x_cells[1] <= x0 || t.x_cells[0] >= x1 || t.y_cells[1] <= y0 || t.y_cells[0] >= y1) continue;
+        tiles.push_back(read_tile_cells(tile_path(plan, k)));
+        if (tiles.back().plan_hash != plan.hash || tiles.back().index != k)
+            throw_input_error(tile_path(plan, k), "from another plan, or another tile: run the tile again");
+        const TileCells& cells = tiles.back();
+        for (std::size_t i = 0; i < cells.brick_keys.size(); ++i) {
+            const std::uint64_t key = cells.brick_keys[i];
+            const auto bx = static_cast<std::int64_t>(key % frame.bricks[0]),
+                       by = static_cast<std::int64_t>(key / frame.bricks[0] % frame.bricks[1]);
+            if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
+            bricks.emplace_back(key, tiles.size() - 1, i);
+        }
+    }
+    std::sort(bricks.begin(), bricks.end());
+    for (const auto& [key, t, i] : bricks) {
+        const TileCells& cells = tiles[t];
+        part.brick_keys.push_back(key);
+        part.brick_masks.push_back(cells.brick_masks[i]);
+        part.brick_first.push_back(part.cells.size());
+        const auto first = cells.cells.begin() + static_cast<std::ptrdiff_t>(cells.brick_first[i]);
+        part.cells.insert(part.cells.end(), first, first + std::popcount(cells.brick_masks[i]));
+    }
+    part.index_bricks();
+    return part;
+}
+
+} // namespace lasmesh
