@@ -7,7 +7,6 @@
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <tuple>
 
 namespace lasmesh {
@@ -15,11 +14,7 @@ namespace lasmesh {
 CellGrid planned_part(const TilePlan& plan, const std::array<std::int64_t, 4>& window, std::int64_t halo,
                       const CellGrid& frame) {
     const std::int64_t x0 = window[0] - halo, x1 = window[1] + halo, y0 = window[2] - halo, y1 = window[3] + halo;
-    const auto b = static_cast<std::int64_t>(CellGrid::brick_size);
-    CellGrid part;
-    part.spec = frame.spec, part.axes = frame.axes, part.scale = frame.scale, part.offset = frame.offset;
-    part.bricks = frame.bricks, part.color = frame.color, part.moments = frame.moments;
-    part.color_max_word = frame.color_max_word;
+    CellGrid part = empty_like(frame);
     // Each brick of the part from the one tile that holds it (the tiles hold disjoint bricks),
     // in ascending key order as a grid keeps them.
     std::vector<TileCells> tiles;
@@ -31,23 +26,13 @@ CellGrid planned_part(const TilePlan& plan, const std::array<std::int64_t, 4>& w
         if (tiles.back().plan_hash != plan.hash || tiles.back().index != k)
             throw_input_error(tile_path(plan, k), "from another plan, or another tile: run the tile again");
         const TileCells& cells = tiles.back();
-        for (std::size_t i = 0; i < cells.brick_keys.size(); ++i) {
-            const std::uint64_t key = cells.brick_keys[i];
-            const auto bx = static_cast<std::int64_t>(key % frame.bricks[0]),
-                       by = static_cast<std::int64_t>(key / frame.bricks[0] % frame.bricks[1]);
-            if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
-            bricks.emplace_back(key, tiles.size() - 1, i);
-        }
+        for (std::size_t i = 0; i < cells.brick_keys.size(); ++i)
+            if (brick_within(cells.brick_keys[i], frame.bricks, x0, x1, y0, y1))
+                bricks.emplace_back(cells.brick_keys[i], tiles.size() - 1, i);
     }
     std::sort(bricks.begin(), bricks.end());
-    for (const auto& [key, t, i] : bricks) {
-        const TileCells& cells = tiles[t];
-        part.brick_keys.push_back(key);
-        part.brick_masks.push_back(cells.brick_masks[i]);
-        part.brick_first.push_back(part.cells.size());
-        const auto first = cells.cells.begin() + static_cast<std::ptrdiff_t>(cells.brick_first[i]);
-        part.cells.insert(part.cells.end(), first, first + std::popcount(cells.brick_masks[i]));
-    }
+    for (const auto& [key, t, i] : bricks)
+        append_brick(part, key, tiles[t].brick_masks[i], tiles[t].cells.data() + tiles[t].brick_first[i]);
     part.index_bricks();
     return part;
 }

@@ -11,23 +11,34 @@
 
 namespace lasmesh {
 
-CellGrid bricks_within(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
-    const auto b = static_cast<std::int64_t>(CellGrid::brick_size);
+CellGrid empty_like(const CellGrid& grid) {
     CellGrid part;
     part.spec = grid.spec, part.axes = grid.axes, part.scale = grid.scale, part.offset = grid.offset;
     part.bricks = grid.bricks, part.color = grid.color, part.moments = grid.moments;
     part.color_max_word = grid.color_max_word;
-    for (std::size_t k = 0; k < grid.brick_keys.size(); ++k) {
-        const std::uint64_t key = grid.brick_keys[k];
-        const auto bx = static_cast<std::int64_t>(key % grid.bricks[0]),
-                   by = static_cast<std::int64_t>(key / grid.bricks[0] % grid.bricks[1]);
-        if ((bx + 1) * b <= x0 || bx * b >= x1 || (by + 1) * b <= y0 || by * b >= y1) continue;
-        part.brick_keys.push_back(key);
-        part.brick_masks.push_back(grid.brick_masks[k]);
-        part.brick_first.push_back(part.cells.size());
-        const auto first = grid.cells.begin() + static_cast<std::ptrdiff_t>(grid.brick_first[k]);
-        part.cells.insert(part.cells.end(), first, first + std::popcount(grid.brick_masks[k]));
-    }
+    return part;
+}
+
+void append_brick(CellGrid& part, std::uint64_t key, std::uint64_t mask, const CellSums* cells) {
+    part.brick_keys.push_back(key);
+    part.brick_masks.push_back(mask);
+    part.brick_first.push_back(part.cells.size());
+    part.cells.insert(part.cells.end(), cells, cells + std::popcount(mask));
+}
+
+bool brick_within(std::uint64_t key, const std::array<std::uint32_t, 3>& bricks, std::int64_t x0, std::int64_t x1,
+                  std::int64_t y0, std::int64_t y1) {
+    const auto b = static_cast<std::int64_t>(CellGrid::brick_size);
+    const auto bx = static_cast<std::int64_t>(key % bricks[0]),
+               by = static_cast<std::int64_t>(key / bricks[0] % bricks[1]);
+    return (bx + 1) * b > x0 && bx * b < x1 && (by + 1) * b > y0 && by * b < y1;
+}
+
+CellGrid bricks_within(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
+    CellGrid part = empty_like(grid);
+    for (std::size_t k = 0; k < grid.brick_keys.size(); ++k)
+        if (brick_within(grid.brick_keys[k], grid.bricks, x0, x1, y0, y1))
+            append_brick(part, grid.brick_keys[k], grid.brick_masks[k], grid.cells.data() + grid.brick_first[k]);
     part.index_bricks();
     return part;
 }

@@ -192,6 +192,13 @@ struct CellGrid {
 // cells, in the grid's own frame and size: a part of it, such as a tile and a halo round it,
 // that a sheet can be meshed from with the whole grid's survey (mesh/surface_sheet.hpp).
 CellGrid bricks_within(const CellGrid& grid, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1);
+// A grid with `grid`'s geometry (spec, axes, raw frame, colour, moments) and no cells yet; bricks
+// are appended in ascending key order (append_brick), then index_bricks.
+CellGrid empty_like(const CellGrid& grid);
+void append_brick(CellGrid& part, std::uint64_t key, std::uint64_t mask, const CellSums* cells);
+// Whether brick `key` of a grid of `bricks` bricks an axis holds cells x0 <= x < x1, y0 <= y < y1.
+bool brick_within(std::uint64_t key, const std::array<std::uint32_t, 3>& bricks, std::int64_t x0, std::int64_t x1,
+                  std::int64_t y0, std::int64_t y1);
 
 // Bytes the grid needs before the first point: the brick index on the device, and the slices. The pool of bricks grows
 // with the surface and is checked as it grows.
