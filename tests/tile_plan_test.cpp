@@ -24,6 +24,15 @@ namespace {
 using test::contains;
 using test::error_text;
 
+// The generated torus, `points` of it, as a LAS file in `dir`; its path.
+std::string torus_file(const test::TempDir& dir, std::uint64_t points) {
+    lasgen::SceneOptions scene;
+    scene.kind = lasgen::SceneKind::torus;
+    const std::string input = dir.file("torus.las");
+    test::write_file(input, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), points, 4));
+    return input;
+}
+
 OutputRequest request(const std::string& path) {
     OutputRequest output;
     output.path = path;
@@ -78,10 +87,7 @@ TEST_CASE("a tile's cell sums: read back exactly; cut short, damaged or not a ti
 
 TEST_CASE("plan_tiles, run_tile and merge_tiles: the outputs of build_mesh, byte for byte") {
     test::TempDir dir;
-    lasgen::SceneOptions scene;
-    scene.kind = lasgen::SceneKind::torus;
-    const std::string input = dir.file("torus.las");
-    test::write_file(input, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), 80000, 4));
+    const std::string input = torus_file(dir, 80000);
     BuildOptions options;
     options.grid = GridRequest::longest(96);
     options.outputs.push_back(request(dir.file("one.ply")));
@@ -127,10 +133,7 @@ TEST_CASE("a tile's part with a halo, read from the tiles' files, is the whole g
     // The torus in tiles of 2.5 (24 cells); each tile's window with halos of 8 and 30 cells (past
     // its neighbours into the next), and a window of the grid's last cells beyond every tile.
     test::TempDir dir;
-    lasgen::SceneOptions scene;
-    scene.kind = lasgen::SceneKind::torus;
-    const std::string input = dir.file("torus.las");
-    test::write_file(input, test::make_las(lasgen::LasLayout{}, lasgen::make_scene(scene), 60000, 4));
+    const std::string input = torus_file(dir, 60000);
     BuildOptions options;
     options.grid = GridRequest::longest(96);
     TilePlan plan = plan_tiles({input}, options, 2.5);
