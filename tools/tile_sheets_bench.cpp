@@ -10,7 +10,8 @@
 // and PREFIX-tiled.ply (small pieces removed from each, not simplified) for
 // `lasgen --scene deck --measure`. With --join, the tiles' regions are first turned to face as one
 // (src/mesh/tile_facing). Also says whether the survey made from the tiles (sheet_survey_part,
-// combined_survey) is the whole grid's. With --thin (and --join), both meshes have the thin parts
+// combined_survey) is the whole grid's, and names the tiles whose own sheet has 1% more or fewer
+// triangles than the whole grid's in the tile. With --thin (and --join), both meshes have the thin parts
 // meshed at half the cell and joined to the sheet, as lasmesh does by default
 // (finest_sheet_in_tiles: the whole grid's as one tile, and the tiles'), and it says whether the
 // tiles find the whole grid's thin cells and sample the seam's corners as the whole grid does.
@@ -134,9 +135,8 @@ SampleDifferences sample_differences(const SeamCorners& a, const SeamCorners& b)
 // Both meshes with their thin parts joined (--thin): the whole grid's as one tile, and the tiles'.
 void meshes_with_thin_parts(const std::string& input, const CellGrid& grid, double iso,
                             const std::vector<std::array<std::int64_t, 4>>& windows, const TilePart& part_of,
-                            Mesh& whole, Mesh& tiled) {
+                            const SheetSurvey& survey, const TiledSurvey& tiles, Mesh& whole, Mesh& tiled) {
     const std::vector<std::array<std::int64_t, 3>> thin = thin_cells(grid, iso);
-    const TiledSurvey tiles = survey_tiles(grid.spec, windows, part_of, iso, true);
     std::printf("thin cells: whole grid %zu, tiles %zu, %s\n", thin.size(), tiles.thin.size(),
                 thin == tiles.thin ? "the same" : "NOT the same");
     RunReport r;
@@ -152,7 +152,6 @@ void meshes_with_thin_parts(const std::string& input, const CellGrid& grid, doub
     const TilePart all = [&](const std::array<std::int64_t, 4>&) {
         return bricks_within(grid, 0, dims[0], 0, dims[1]);
     };
-    const SheetSurvey survey = sheet_survey(grid, iso);
     SeamCorners by_whole = seam_corners_of(refined.cells, dims), by_tiles = by_whole;
     sheets_of_tiles(grid.spec, one, all, iso, survey, &by_whole);
     sheets_of_tiles(grid.spec, windows, part_of, iso, tiles.survey, &by_tiles);
@@ -192,30 +191,44 @@ int main(int argc, char** argv) {
                 static_cast<long long>(halo), own ? ", each tile its own noise and outside" : "");
     std::unordered_map<std::uint64_t, std::uint32_t> whole_at, tiled_at;
     Mesh whole, tiled;
-    append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
+    const Mesh whole_sheet = extract_sheet(grid, iso);
+    append_welded(whole, whole_at, whole_sheet, [](const auto&) { return true; });
     const SheetSurvey survey = sheet_survey(grid, iso);
     // The same survey from the tiles, each with its halo: the noise and the outside must be the whole grid's.
     const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile);
-    const auto part_of = [&](const std::array<std::int64_t, 4>& w) {
+    const TilePart part_of = [&](const std::array<std::int64_t, 4>& w) {
         return bricks_within(grid, w[0] - halo, w[1] + halo, w[2] - halo, w[3] + halo);
     };
-    std::vector<SurveyPart> survey_parts;
-    for (const auto& w : windows) survey_parts.push_back(sheet_survey_part(part_of(w), iso, w));
-    const SheetSurvey from_tiles = combined_survey(survey_parts, grid.spec.dims);
+    const TiledSurvey tiled_survey = survey_tiles(grid.spec, windows, part_of, iso, thin);
+    const SheetSurvey& from_tiles = tiled_survey.survey;
     std::printf("survey from the tiles: noise %s (%.3g), outside %s\n",
                 from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
                 *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
     std::vector<Mesh> tiles;
     if (thin) { // both meshes made here; `tiles` stays empty
         Mesh whole_thin, tiled_thin;
-        meshes_with_thin_parts(input, grid, iso, windows, part_of, whole_thin, tiled_thin);
+        meshes_with_thin_parts(input, grid, iso, windows, part_of, survey, tiled_survey, whole_thin, tiled_thin);
         whole = Mesh{}, whole_at.clear();
         append_welded(whole, whole_at, whole_thin, [](const auto&) { return true; });
         append_welded(tiled, tiled_at, tiled_thin, [](const auto&) { return true; });
     }
     for (const auto& w : windows)
-        if (const CellGrid part = part_of(w); !thin && !part.cells.empty())
+        if (const CellGrid part = part_of(w); !thin && !part.cells.empty()) {
             tiles.push_back(tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, w));
+            // A tile's sheet differs from the whole grid's there by more than its facing where its
+            // planes part otherwise (docs/design.md, "What tiles change beyond facing").
+            std::size_t in_whole = 0;
+            for (const auto& t : whole_sheet.triangles) {
+                double c[2]{};
+                for (int k = 0; k < 3; ++k)
+                    for (int a = 0; a < 2; ++a) c[a] += double(whole_sheet.positions[t[k]][a]) / (3 * cell);
+                in_whole += c[0] >= double(w[0]) && c[0] < double(w[1]) && c[1] >= double(w[2]) && c[1] < double(w[3]);
+            }
+            const std::size_t in_tile = tiles.back().triangles.size();
+            if (std::abs(double(in_tile) - double(in_whole)) > 0.01 * double(in_whole))
+                std::printf("tile at cells %lld, %lld: %zu triangles, the whole grid's sheet %zu there\n",
+                            static_cast<long long>(w[0]), static_cast<long long>(w[2]), in_tile, in_whole);
+        }
     if (joined && !thin) {
         std::vector<TileRegions> regions;
         for (const Mesh& sheet : tiles) regions.push_back(tile_regions(sheet));
