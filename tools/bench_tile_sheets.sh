@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# The sheet meshed tile by tile against the whole grid's, on the generated deck: the tiles' sheets
-# (each from its cells and a halo, with the whole grid's noise and outside) joined, and the whole
-# grid's, both against the deck's true surfaces (lasgen --measure), with the cracks the tiling adds.
-# Usage: tools/bench_tile_sheets.sh [POINTS] [TILE] [HALO] [--own] [--join] [--thin]   (default 2,000,000 points, 64, 8)
-# --join: the tiles' regions turned to face as one (src/mesh/tile_facing) before they are joined.
-# --thin (with --join): both meshes with the thin parts meshed at half the cell and joined to the
-# sheet (the whole grid's as one tile), and whether the tiles find the whole grid's thin cells and
-# sample the seam as its sheet does.
+# The sheet meshed tile by tile against the whole grid's, on the generated deck: the tiles'
+# sheets (each from its cells and a halo, with the survey, the planes' facing and the parts'
+# turns decided from what the tiles hand on) joined, and the whole grid's; the triangles only one
+# of them has, and both against the deck's true surfaces (lasgen --measure).
+# Usage: tools/bench_tile_sheets.sh [POINTS] [TILE] [HALO] [--thin]   (default 2,000,000 points, 64, 8)
+# --thin: both meshes with the thin parts meshed at half the cell and joined to the sheet (the
+# whole grid's as one tile), and whether the tiles find the whole grid's thin cells and sample the
+# seam as its sheet does.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 points=${1:-2000000} tile=${2:-64} halo=${3:-8}

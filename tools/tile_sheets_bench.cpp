@@ -1,22 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
 // tile_sheets_bench: whether the sheet can be meshed tile by tile (tools/bench_tile_sheets.sh).
-// Accumulates a LAS file as lasmesh does by default, extracts the whole grid's sheet, then each
-// tile's (TILE x TILE cells in x and y, all of z) from the tile's bricks and a halo of HALO
-// cells round it, with the whole grid's noise and outside (sheet_survey), or with --own each
-// tile's own; keeps each tile's triangles whose centroid lies in it and joins them (vertices at
-// the same place, to 0.1 mm, made one). Reports both meshes' triangles, their border edges (all,
-// and those within a cell of a tile's border: the cracks a tiling would add), edges whose two
-// triangles face apart, and the triangles only one of the two meshes has. Writes PREFIX-whole.ply
-// and PREFIX-tiled.ply (small pieces removed from each, not simplified) for
-// `lasgen --scene deck --measure`. With --join, the tiles' regions are first turned to face as one
-// (src/mesh/tile_facing). Also says whether the survey made from the tiles (sheet_survey_part,
-// combined_survey) is the whole grid's, and names the tiles whose own sheet has 1% more or fewer
-// triangles than the whole grid's in the tile. With --thin (and --join), both meshes have the thin parts
-// meshed at half the cell and joined to the sheet, as lasmesh does by default
-// (finest_sheet_in_tiles: the whole grid's as one tile, and the tiles'), and it says whether the
-// tiles find the whole grid's thin cells and sample the seam's corners as the whole grid does.
+// Accumulates a LAS file as lasmesh does by default, extracts the whole grid's sheet, then the
+// tiles' (TILE x TILE cells in x and y, all of z, each from its bricks and a halo of HALO cells
+// round it: sheets_of_tiles), and joins each mesh's vertices at the same place (to 0.1 mm).
+// Reports both meshes' triangles, their border edges (all, and those within a cell of a tile's
+// border: the cracks a tiling would add), edges whose two triangles face apart, and the triangles
+// only one of the two meshes has. Writes PREFIX-whole.ply and PREFIX-tiled.ply (small pieces
+// removed from each, not simplified) for `lasgen --scene deck --measure`. Also says whether the
+// survey made from the tiles (sheet_survey_part, combined_survey) is the whole grid's. With
+// --thin, both meshes have the thin parts meshed at half the cell and joined to the sheet, as
+// lasmesh does by default (finest_sheet_in_tiles: the whole grid's as one tile, and the tiles'),
+// and it says whether the tiles find the whole grid's thin cells and sample the seam's corners
+// as the whole grid does.
 //
-// Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join] [--thin]
+// Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--thin]
 #include "build_steps.hpp"
 #include "grid/thin_parts.hpp"
 #include "io/ply_writer.hpp"
@@ -25,7 +22,6 @@
 #include "mesh/marching_cubes.hpp"
 #include "mesh/outside_space.hpp"
 #include "mesh/surface_sheet.hpp"
-#include "mesh/tile_facing.hpp"
 #include "mesh/tiled_sheet.hpp"
 
 #include <algorithm>
@@ -173,26 +169,20 @@ void meshes_with_thin_parts(const std::string& input, const CellGrid& grid, doub
 
 int main(int argc, char** argv) {
     if (argc < 5) {
-        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--own] [--join] [--thin]\n");
+        std::fprintf(stderr, "usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--thin]\n");
         return 2;
     }
     const std::string input = argv[1], prefix = argv[4];
     const std::int64_t tile = std::atoll(argv[2]), halo = std::atoll(argv[3]);
-    bool own = false, joined = false, thin = false;
-    for (int i = 5; i < argc; ++i) {
-        const std::string option = argv[i];
-        own = own || option == "--own", joined = joined || option == "--join", thin = thin || option == "--thin";
-    }
+    const bool thin = argc > 5 && std::string(argv[5]) == "--thin";
     const AccumulatedInputs accumulated = accumulate_inputs({input}, BuildOptions{});
     const CellGrid& grid = accumulated.accumulation->grid;
     const double iso = automatic_iso(grid), cell = grid.spec.cell_size;
-    std::printf("grid %u x %u x %u cells of %.4f, iso %.1f; tiles of %lld cells, halo %lld%s\n", grid.spec.dims[0],
+    std::printf("grid %u x %u x %u cells of %.4f, iso %.1f; tiles of %lld cells, halo %lld\n", grid.spec.dims[0],
                 grid.spec.dims[1], grid.spec.dims[2], cell, iso, static_cast<long long>(tile),
-                static_cast<long long>(halo), own ? ", each tile its own noise and outside" : "");
+                static_cast<long long>(halo));
     std::unordered_map<std::uint64_t, std::uint32_t> whole_at, tiled_at;
     Mesh whole, tiled;
-    const Mesh whole_sheet = extract_sheet(grid, iso);
-    append_welded(whole, whole_at, whole_sheet, [](const auto&) { return true; });
     const SheetSurvey survey = sheet_survey(grid, iso);
     // The same survey from the tiles, each with its halo: the noise and the outside must be the whole grid's.
     const std::vector<std::array<std::int64_t, 4>> windows = tile_windows(grid.spec, tile);
@@ -204,44 +194,16 @@ int main(int argc, char** argv) {
     std::printf("survey from the tiles: noise %s (%.3g), outside %s\n",
                 from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
                 *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
-    std::vector<Mesh> tiles;
-    if (thin) { // both meshes made here; `tiles` stays empty
+    if (thin) {
         Mesh whole_thin, tiled_thin;
         meshes_with_thin_parts(input, grid, iso, windows, part_of, survey, tiled_survey, whole_thin, tiled_thin);
-        whole = Mesh{}, whole_at.clear();
         append_welded(whole, whole_at, whole_thin, [](const auto&) { return true; });
         append_welded(tiled, tiled_at, tiled_thin, [](const auto&) { return true; });
+    } else {
+        append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
+        append_welded(tiled, tiled_at, sheets_of_tiles(grid.spec, windows, part_of, iso, from_tiles),
+                      [](const auto&) { return true; });
     }
-    for (const auto& w : windows)
-        if (const CellGrid part = part_of(w); !thin && !part.cells.empty()) {
-            tiles.push_back(tile_sheet(part, iso, own ? sheet_survey(part, iso) : from_tiles, w));
-            // A tile's sheet differs from the whole grid's there by more than its facing where its
-            // planes part otherwise (docs/design.md, "What tiles change beyond facing").
-            std::size_t in_whole = 0;
-            for (const auto& t : whole_sheet.triangles) {
-                double c[2]{};
-                for (int k = 0; k < 3; ++k)
-                    for (int a = 0; a < 2; ++a) c[a] += double(whole_sheet.positions[t[k]][a]) / (3 * cell);
-                in_whole += c[0] >= double(w[0]) && c[0] < double(w[1]) && c[1] >= double(w[2]) && c[1] < double(w[3]);
-            }
-            const std::size_t in_tile = tiles.back().triangles.size();
-            if (std::abs(double(in_tile) - double(in_whole)) > 0.01 * double(in_whole))
-                std::printf("tile at cells %lld, %lld: %zu triangles, the whole grid's sheet %zu there\n",
-                            static_cast<long long>(w[0]), static_cast<long long>(w[2]), in_tile, in_whole);
-        }
-    if (joined && !thin) {
-        std::vector<TileRegions> regions;
-        for (const Mesh& sheet : tiles) regions.push_back(tile_regions(sheet));
-        const std::vector<std::vector<char>> turns = facing_turns(regions);
-        std::size_t count = 0, turned = 0;
-        for (std::size_t k = 0; k < tiles.size(); ++k) {
-            turn_regions(tiles[k], regions[k], turns[k]);
-            count += turns[k].size();
-            turned += static_cast<std::size_t>(std::count(turns[k].begin(), turns[k].end(), 1));
-        }
-        std::printf("joined: %zu of the tiles' %zu regions turned\n", turned, count);
-    }
-    for (const Mesh& sheet : tiles) append_welded(tiled, tiled_at, sheet, [](const auto&) { return true; });
     const auto a = triangle_keys(whole), b = triangle_keys(tiled);
     std::vector<std::array<std::uint64_t, 3>> only_whole, only_tiled;
     std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(only_whole));
@@ -259,7 +221,7 @@ int main(int argc, char** argv) {
     }
     std::printf("%zu tiles; triangles only in the whole grid's sheet %zu (of them facing the other way in the "
                 "tiles' %zu), only in the tiles' %zu\n",
-                tiles.size(), only_whole.size(), turned, only_tiled.size());
+                windows.size(), only_whole.size(), turned, only_tiled.size());
     for (Mesh* m : {&whole, &tiled}) {
         m->origin = grid.spec.origin, m->cell_size = cell;
         remove_small_pieces(*m, MinPiece{});

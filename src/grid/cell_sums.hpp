@@ -148,6 +148,15 @@ struct CellGrid {
         if (!(mask >> bit & 1)) return no_record;
         return brick_first[at - 1] + static_cast<std::uint64_t>(std::popcount(mask & ((std::uint64_t{1} << bit) - 1)));
     }
+    // A cell's place in for_each_cell's order, as one number: its brick's key times brick_cells
+    // plus its bit. The same in a part of the grid (its bricks keep the grid's keys).
+    std::uint64_t order_key(const std::array<std::int64_t, 3>& c) const {
+        const std::uint64_t brick =
+            (std::uint64_t(c[2] >> brick_bits) * bricks[1] + std::uint64_t(c[1] >> brick_bits)) * bricks[0] +
+            std::uint64_t(c[0] >> brick_bits);
+        const std::int64_t m = brick_size - 1;
+        return brick * brick_cells + std::uint64_t(((c[2] & m) * brick_size + (c[1] & m)) * brick_size + (c[0] & m));
+    }
     // The grid coordinates of cell `bit` of brick `key`.
     std::array<std::int64_t, 3> cell_in_brick(std::uint64_t key, unsigned bit) const {
         const std::uint64_t bx = key % bricks[0], by = key / bricks[0] % bricks[1], bz = key / bricks[0] / bricks[1];

@@ -168,6 +168,19 @@ struct Planes {
         });
         normal.resize(cell.size());
     }
+    // Planes made already (UnfacedPlanes, in the grid's order), found through `index`: a grid of
+    // no cells but their bricks, whose records are the planes.
+    Planes(const CellGrid& index, UnfacedPlanes&& made)
+        : grid(index), centroid(std::move(made.centroid)), normal(std::move(made.normal)), count(std::move(made.count)),
+          half_thickness(std::move(made.half_thickness)) {
+        of_record.resize(made.key.size());
+        cell.reserve(made.key.size());
+        for (std::size_t p = 0; p < made.key.size(); ++p) {
+            of_record[p] = static_cast<std::uint32_t>(p);
+            cell.push_back(index.cell_in_brick(made.key[p] / CellGrid::brick_cells,
+                                               static_cast<unsigned>(made.key[p] % CellGrid::brick_cells)));
+        }
+    }
     // From the grid's brick index only (its cells may be gone).
     std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
         const std::uint64_t r = grid.record_of(x, y, z);
@@ -892,6 +905,8 @@ struct SheetField {
 // plate ends (half thickness 0) stay where they are: the front face shares them with the sheet it
 // continues, the back face has its own, so the back face is an open sheet of its own and no edge
 // gets three triangles.
+} // namespace
+
 void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
     const std::size_t nv = mesh.positions.size(), nt = mesh.triangles.size();
     std::vector<std::uint32_t> back(nv, UINT32_MAX);
@@ -917,6 +932,8 @@ void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
         for (int c = 0; c < 3; ++c) mesh.positions[v][c] += half[v] * n[c];
     }
 }
+
+namespace {
 
 // Each plane's points' covariance along its plane, from its cell's scatter (sum (p - c)(p - c)^T:
 // xx, yy, zz, xy, xz, yz) over its count.
@@ -975,29 +992,50 @@ void sample_seam(const SheetField& field, SeamCorners& c) {
 // `owned`, when given, is `grid` itself, ours to empty as we go (the grid and the planes are most
 // of the memory at fine grids): its cells once the planes hold what is needed of them, its brick
 // table once the corners are sampled.
-Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned,
-             const std::function<void()>& released, SeamRequest* seam_request,
-             const std::function<const SeamCorners&()>& coarse_seam, const SheetSurvey* survey) {
-    Planes planes(grid, iso);
-    if (owned) std::vector<CellSums>().swap(owned->cells);
-    if (released) released();
+// Step 1 after the planes are made: their normals, tubes, plates and places (all but facing).
+// `survey` gives the scan's noise, else the planes' own.
+void shape_planes(Planes& planes, LinearParts linear, const SheetSurvey* survey) {
+    const double h = planes.grid.spec.cell_size;
     estimate_normals(planes);
     if (linear == LinearParts::tubes) estimate_tubes(planes);
     if (!planes.scatter.empty()) {
         {
             std::vector<double> spread, points, middle;
-            layer_spreads(planes, grid.spec.cell_size, spread, points, middle);
-            estimate_thickness(planes, grid.spec.cell_size, spread, points, middle,
-                               survey ? survey->noise : layer_noise(spread, points));
+            layer_spreads(planes, h, spread, points, middle);
+            estimate_thickness(planes, h, spread, points, middle, survey ? survey->noise : layer_noise(spread, points));
         }
         keep_spread_along(planes);
         std::vector<std::array<float, 6>>().swap(planes.scatter);
     }
-    pool_split_layers(planes, grid.spec.cell_size);
+    pool_split_layers(planes, h);
+}
+
+// Turns the planes `facing` names.
+void face_planes(Planes& planes, const PlaneFacing& facing) {
+    tbb::parallel_for(std::size_t{0}, planes.cell.size(), [&](std::size_t p) {
+        if (std::binary_search(facing.turned.begin(), facing.turned.end(), planes.grid.order_key(planes.cell[p])))
+            for (double& c : planes.normal[p]) c = -c;
+    });
+}
+
+// `faced`, when given, faces the planes instead of step 2, and the sheet is returned before step 5
+// and the plates' split, with each vertex's half thickness in `half`.
+Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* owned,
+             const std::function<void()>& released, SeamRequest* seam_request,
+             const std::function<const SeamCorners&()>& coarse_seam, const SheetSurvey* survey,
+             const PlaneFacing* faced = nullptr, std::vector<float>* faced_half = nullptr) {
+    Planes planes(grid, iso);
+    if (owned) std::vector<CellSums>().swap(owned->cells);
+    if (released) released();
+    shape_planes(planes, linear, survey);
     std::optional<OutsideSpace> own_outside;
-    const OutsideSpace& outside =
-        survey && survey->outside ? *survey->outside : own_outside.emplace(grid.spec.dims, planes.cell);
-    orient_normals(planes, outside);
+    const OutsideSpace* outside = nullptr;
+    if (faced)
+        face_planes(planes, *faced);
+    else {
+        outside = survey && survey->outside ? survey->outside.get() : &own_outside.emplace(grid.spec.dims, planes.cell);
+        orient_normals(planes, *outside);
+    }
     // The cells' coordinates and counts served the normals only: their memory goes to marching.
     std::vector<std::array<std::int64_t, 3>>().swap(planes.cell);
     std::vector<std::uint64_t>().swap(planes.count);
@@ -1031,10 +1069,14 @@ Mesh extract(const CellGrid& grid, double iso, LinearParts linear, CellGrid* own
     Mesh mesh = detail::march_sparse(field, detail::lattice_near_bricks(grid, surface_bricks, field.points, 1),
                                      grid.has_color(), sampled, planes.half_thickness.empty() ? nullptr : &half);
     agree_normals_with_faces(mesh);
-    face_outside(mesh, outside, grid.spec.cell_size);
-    if (!half.empty()) split_two_faces(mesh, half);
     mesh.origin = grid.spec.origin;
     mesh.cell_size = grid.spec.cell_size;
+    if (faced) {
+        *faced_half = std::move(half);
+        return mesh;
+    }
+    face_outside(mesh, *outside, grid.spec.cell_size);
+    if (!half.empty()) split_two_faces(mesh, half);
     return mesh;
 }
 
@@ -1053,6 +1095,70 @@ Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear, const std::f
 SheetSurvey sheet_survey(const CellGrid& grid, double iso, LinearParts linear) {
     const GridSpec& spec = grid.spec;
     return combined_survey({sheet_survey_part(grid, iso, {0, spec.dims[0], 0, spec.dims[1]}, linear)}, spec.dims);
+}
+
+UnfacedPlanes unfaced_planes(const CellGrid& part, double iso, const SheetSurvey& survey,
+                             const std::array<std::int64_t, 4>& window, LinearParts linear) {
+    Planes planes(part, iso);
+    shape_planes(planes, linear, &survey);
+    UnfacedPlanes in;
+    for (std::size_t p = 0; p < planes.cell.size(); ++p) {
+        const auto& c = planes.cell[p];
+        if (c[0] < window[0] || c[0] >= window[1] || c[1] < window[2] || c[1] >= window[3]) continue;
+        in.key.push_back(part.order_key(c));
+        in.centroid.push_back(planes.centroid[p]);
+        in.normal.push_back(planes.normal[p]);
+        in.count.push_back(planes.count[p]);
+        if (!planes.half_thickness.empty()) in.half_thickness.push_back(planes.half_thickness[p]);
+    }
+    return in;
+}
+
+PlaneFacing plane_facing(const std::vector<UnfacedPlanes>& parts, const GridSpec& grid, const SheetSurvey& survey) {
+    // The parts' planes in the grid's order, each part's in order and the parts' windows apart.
+    std::vector<std::pair<std::uint64_t, std::pair<std::size_t, std::size_t>>> order; // key, (part, plane)
+    bool plates = false;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        for (std::size_t p = 0; p < parts[k].key.size(); ++p) order.push_back({parts[k].key[p], {k, p}});
+        plates = plates || !parts[k].half_thickness.empty();
+    }
+    std::sort(order.begin(), order.end());
+    UnfacedPlanes all;
+    CellGrid index;
+    index.spec = grid;
+    for (int a = 0; a < 3; ++a)
+        index.bricks[a] = static_cast<std::uint32_t>((grid.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
+    for (const auto& [key, at] : order) {
+        const UnfacedPlanes& from = parts[at.first];
+        all.key.push_back(key);
+        all.centroid.push_back(from.centroid[at.second]);
+        all.normal.push_back(from.normal[at.second]);
+        all.count.push_back(from.count[at.second]);
+        if (plates) all.half_thickness.push_back(from.half_thickness.empty() ? 0.f : from.half_thickness[at.second]);
+        const std::uint64_t brick = key / CellGrid::brick_cells;
+        if (index.brick_keys.empty() || index.brick_keys.back() != brick) {
+            index.brick_keys.push_back(brick);
+            index.brick_masks.push_back(0);
+            index.brick_first.push_back(all.key.size() - 1);
+        }
+        index.brick_masks.back() |= std::uint64_t{1} << (key % CellGrid::brick_cells);
+    }
+    index.index_bricks();
+    const std::vector<Vec> made = all.normal;
+    std::vector<std::uint64_t> keys = all.key;
+    Planes planes(index, std::move(all));
+    orient_normals(planes, *survey.outside);
+    PlaneFacing facing;
+    for (std::size_t p = 0; p < keys.size(); ++p)
+        if (dot(planes.normal[p], made[p]) < 0) facing.turned.push_back(keys[p]);
+    return facing;
+}
+
+FacedSheet faced_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const PlaneFacing& facing,
+                       LinearParts linear, SeamRequest* seam) {
+    FacedSheet faced;
+    faced.mesh = extract(part, iso, linear, nullptr, {}, seam, {}, &survey, &facing, &faced.half);
+    return faced;
 }
 
 SurveyPart sheet_survey_part(const CellGrid& part, double iso, const std::array<std::int64_t, 4>& own,

@@ -101,4 +101,42 @@ SheetSurvey combined_survey(const std::vector<SurveyPart>& parts, const std::arr
 Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
                    LinearParts linear = LinearParts::planes, SeamRequest* seam = nullptr);
 
+// The one step of the sheet that a part cannot take from its cells and a halo round them is which
+// way its planes face (step 2: a spanning tree over the whole grid's planes, each piece facing the
+// way most of it sees the outside). A part hands on its planes before they are faced, those whose
+// cell lies in `window` (x from window[0] to window[1], y from window[2] to window[3]); the
+// planes are small beside the cells (a plane's place, normal and count against a cell's sums
+// and moments), and orienting them is one pass of the tree. With a halo of 8 cells or more round
+// each part, the parts' planes are the whole grid's, and plane_facing orients them as the whole
+// grid's sheet does, bit for bit.
+struct UnfacedPlanes {
+    std::vector<std::uint64_t> key; // the cell's CellGrid::order_key, ascending
+    std::vector<std::array<double, 3>> centroid, normal;
+    std::vector<std::uint64_t> count;
+    std::vector<float> half_thickness; // a plate's two faces apart, halved (empty: no plate found)
+};
+UnfacedPlanes unfaced_planes(const CellGrid& part, double iso, const SheetSurvey& survey,
+                             const std::array<std::int64_t, 4>& window, LinearParts linear = LinearParts::planes);
+// The order keys of the planes that face against the normal their cells' points give (ascending).
+struct PlaneFacing {
+    std::vector<std::uint64_t> turned;
+};
+// The parts' planes together (the parts' windows apart), oriented as the whole grid's sheet
+// orients its planes.
+PlaneFacing plane_facing(const std::vector<UnfacedPlanes>& parts, const GridSpec& grid, const SheetSurvey& survey);
+// A part's sheet with its planes faced as `facing` says (those it does not name face along their
+// points' normal), marched, its vertex normals agreeing with its faces; before its connected parts
+// are turned to face the outside (step 5, which needs the whole sheet's parts: tile_facing.hpp)
+// and plates' sheets split into their two faces (split_two_faces, with `half`).
+struct FacedSheet {
+    Mesh mesh;
+    std::vector<float> half; // per vertex, for split_two_faces (empty: no plate)
+};
+FacedSheet faced_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const PlaneFacing& facing,
+                       LinearParts linear = LinearParts::planes, SeamRequest* seam = nullptr);
+// Each triangle with a vertex whose `half` is over 0 (a plate's) gets a copy for the plate's back
+// face, `half` behind it along the vertex normals and facing the other way; the front face moves
+// `half` forward. The last step of the sheet.
+void split_two_faces(Mesh& mesh, const std::vector<float>& half);
+
 } // namespace lasmesh

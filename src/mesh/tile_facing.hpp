@@ -1,23 +1,24 @@
 // SPDX-License-Identifier: Apache-2.0
-// Tiles' sheets made to face as one.
+// Tiles' sheets turned to face the outside as the whole grid's sheet is.
 //
-//     std::vector<TileRegions> regions;
-//     for (const Mesh& sheet : tile_sheets) regions.push_back(tile_regions(sheet));
-//     const std::vector<std::vector<char>> turns = facing_turns(regions);
-//     for (std::size_t k = 0; k < tile_sheets.size(); ++k) turn_regions(tile_sheets[k], regions[k], turns[k]);
+//     std::vector<TileParts> parts;
+//     for (k...) parts.push_back(tile_parts(faced[k].mesh, windows[k], *survey.outside));
+//     const std::vector<std::vector<char>> turns = outside_turns(parts);
+//     for (k...) turn_over(faced[k].mesh, vertex_turns(parts[k], turns[k]));
 //
-// A sheet meshed tile by tile (each tile from its own cells and a halo round them, with the whole
-// grid's SheetSurvey, keeping the triangles whose centroid lies in the tile: surface_sheet.hpp)
-// is the whole grid's sheet but for which way it faces: each tile orients its planes by a
-// spanning tree over its own window, so a surface crossing a tile's border may face one way on
-// one side and the other way on the other. What joins them is small beside the meshes: each
-// tile's regions (its triangles joined across edges that two of them share running opposite
-// ways, so that a region faces one way throughout) with their areas, and the edges on its border
-// (used by one of its triangles). A tile can hand that on, and the turns be decided from all
-// tiles' together.
+// The sheet's last look at the whole is step 5 (surface_sheet.hpp): each connected part of the
+// mesh turns when more of its area has the outside behind it than in front. Tiles' sheets faced
+// alike (plane_facing) are the whole grid's sheet before that step, each tile's from its
+// triangles whose centroid lies in its window; a connected part may run through many tiles. What
+// decides its turn is small beside the meshes: each tile's parts, their triangles' votes (in the
+// window: each triangle counted by one tile), and the places of the vertices near the window's
+// edges, where a part may go on in the next tile. The parts are joined where two tiles have a
+// vertex at the same place (a halo of 8 cells or more gives the tiles the whole grid's triangles
+// there, bit for bit) and each joined part's votes added up.
 #pragma once
 
 #include "lasmesh/mesh.hpp"
+#include "mesh/outside_space.hpp"
 
 #include <array>
 #include <cstdint>
@@ -25,37 +26,28 @@
 
 namespace lasmesh {
 
-// What facing_turns needs of one tile's sheet.
-struct TileRegions {
-    struct BorderEdge {
-        std::array<float, 3> from, to; // its ends, in its triangle's winding
-        std::array<float, 3> normal;   // its triangle's unit normal, the way the winding faces
-        std::uint32_t region = 0;
+// What outside_turns needs of one tile's sheet.
+struct TileParts {
+    static constexpr std::uint32_t none = UINT32_MAX;
+    // Per vertex: its part, among the triangles whose centroid lies within a cell of the window
+    // (those a tile may keep once plates are split); none for the others.
+    std::vector<std::uint32_t> of_vertex;
+    std::vector<double> votes; // per part: outside_votes of its triangles in the window
+    struct Shared {
+        std::array<float, 3> place;
+        std::uint32_t part = 0;
     };
-    std::vector<std::uint32_t> of_triangle; // each triangle's region, numbered by their first triangles
-    std::vector<double> area;               // each region's, in cells (of the sheet's cell size; else units)
-    std::vector<BorderEdge> border;         // the edges one triangle uses, in the triangles' order
+    std::vector<Shared> shared; // the parts' vertices within 3 cells of the window's edges
 };
 
-TileRegions tile_regions(const Mesh& sheet);
+// `sheet`'s positions are relative to the grid origin, in cells of `cell` (its cell_size).
+TileParts tile_parts(const Mesh& sheet, const std::array<std::int64_t, 4>& window, const OutsideSpace& outside);
 
-// Per tile, per region: whether to turn it (1) or not (0). Two tiles' regions that share border
-// edges (the same two positions, bit for bit, their triangles within 60 degrees of one plane)
-// run alike there or against each other. The regions are joined as their shared edges say, the
-// pair whose edges say so by the widest margin first, a joined piece's edges to another added up
-// (agglomerative, so that a small region across a fold, alike with its neighbours on one side
-// and against them on the other, is outweighed by the edges of the pieces around it rather than
-// deciding for them); two pieces that their tiles faced apart join only where their say is a
-// tenth of the smaller's border or more (a stray edge at a plate's rim does not turn a face).
-// Each joined piece keeps the way most of its area faced in its tiles. Then each region is
-// turned on its own where more of its shared edges would run alike, by a tenth of its border
-// more when that turns it from its tile's facing (a local search, as in correlation clustering:
-// the joining is greedy). Depends on the tiles' order and
-// contents only.
-std::vector<std::vector<char>> facing_turns(const std::vector<TileRegions>& tiles);
+// Per tile, per part: whether it turns (1) or not (0): the tiles' parts joined where they share a
+// vertex, a joined part turning where its votes add up below 0, as step 5 turns the whole grid's.
+std::vector<std::vector<char>> outside_turns(const std::vector<TileParts>& tiles);
 
-// Turns the regions that `turn` names: their triangles' winding and their vertices' normals (a
-// vertex of regions turned apart turns with its first triangle).
-void turn_regions(Mesh& sheet, const TileRegions& regions, const std::vector<char>& turn);
+// Per vertex of the tile's sheet, for turn_over: its part's turn (0 for a vertex in none).
+std::vector<char> vertex_turns(const TileParts& parts, const std::vector<char>& turns);
 
 } // namespace lasmesh

@@ -2,35 +2,15 @@
 #include "mesh/tiled_sheet.hpp"
 
 #include "grid/thin_parts.hpp"
+#include "mesh/mesh_edit.hpp"
+#include "mesh/place_bits.hpp"
 #include "mesh/tile_facing.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <optional>
 #include <tuple>
-#include <unordered_map>
 
 namespace lasmesh {
-
-namespace {
-
-// A position's bits, as one key: the tiles' shared vertices are equal to the bit.
-struct PlaceBits {
-    std::size_t operator()(const std::array<float, 3>& p) const {
-        std::uint64_t h = 0;
-        for (const float c : p) h = (h ^ std::bit_cast<std::uint32_t>(c)) * 0x100000001b3ull;
-        return static_cast<std::size_t>(h);
-    }
-};
-struct SameBits {
-    bool operator()(const std::array<float, 3>& a, const std::array<float, 3>& b) const {
-        for (int k = 0; k < 3; ++k)
-            if (std::bit_cast<std::uint32_t>(a[k]) != std::bit_cast<std::uint32_t>(b[k])) return false;
-        return true;
-    }
-};
-
-} // namespace
 
 std::vector<std::array<std::int64_t, 4>> tile_windows(const GridSpec& grid, std::int64_t tile_cells) {
     std::vector<std::array<std::int64_t, 4>> windows;
@@ -68,8 +48,17 @@ TiledSurvey survey_tiles(const GridSpec& grid, const std::vector<std::array<std:
     return tiled;
 }
 
-Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const std::array<std::int64_t, 4>& window,
-                SeamCorners* seam) {
+PlaneFacing face_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
+                       const TilePart& part_of, double iso, const SheetSurvey& survey) {
+    std::vector<UnfacedPlanes> parts;
+    for (const auto& w : windows)
+        if (const CellGrid part = part_of(w); !part.cells.empty())
+            parts.push_back(unfaced_planes(part, iso, survey, w));
+    return plane_facing(parts, grid, survey);
+}
+
+TileSheet tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const PlaneFacing& facing,
+                     const std::array<std::int64_t, 4>& window, SeamCorners* seam) {
     std::optional<SeamRequest> request;
     std::vector<std::size_t> near; // the indices in `seam` of the corners the tile samples
     if (seam) {
@@ -97,16 +86,24 @@ Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, con
                                   }
                               }};
     }
-    Mesh sheet = extract_sheet(part, iso, survey, LinearParts::planes, request ? &*request : nullptr);
-    const double cell = part.spec.cell_size;
-    std::erase_if(sheet.triangles, [&](const std::array<std::uint32_t, 3>& t) {
+    TileSheet sheet{faced_sheet(part, iso, survey, facing, LinearParts::planes, request ? &*request : nullptr), {}};
+    sheet.parts = tile_parts(sheet.faced.mesh, window, *survey.outside);
+    return sheet;
+}
+
+Mesh finish_tile_sheet(TileSheet&& sheet, const std::vector<char>& turns, const std::array<std::int64_t, 4>& window) {
+    Mesh mesh = std::move(sheet.faced.mesh);
+    turn_over(mesh, vertex_turns(sheet.parts, turns));
+    if (!sheet.faced.half.empty()) split_two_faces(mesh, sheet.faced.half);
+    const double cell = mesh.cell_size;
+    std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
         double c[2]{};
         for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 2; ++a) c[a] += double(sheet.positions[t[k]][a]) / (3 * cell);
+            for (int a = 0; a < 2; ++a) c[a] += double(mesh.positions[t[k]][a]) / (3 * cell);
         return c[0] < double(window[0]) || c[0] >= double(window[1]) || c[1] < double(window[2]) ||
                c[1] >= double(window[3]);
     });
-    return sheet;
+    return mesh;
 }
 
 Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
@@ -116,20 +113,20 @@ Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int
         seam->normal.assign(seam->corners.size(), {});
         seam->flags.assign(seam->corners.size(), 0);
     }
-    std::vector<Mesh> tiles;
-    std::vector<TileRegions> regions;
+    const PlaneFacing facing = face_tiles(grid, windows, part_of, iso, survey);
+    std::vector<TileSheet> tiles;
+    std::vector<TileParts> parts;
     for (const auto& w : windows) {
         const CellGrid part = part_of(w);
-        tiles.push_back(part.cells.empty() ? Mesh{} : tile_sheet(part, iso, survey, w, seam));
-        regions.push_back(tile_regions(tiles.back()));
+        tiles.push_back(part.cells.empty() ? TileSheet{} : tile_sheet(part, iso, survey, facing, w, seam));
+        parts.push_back(tiles.back().parts);
     }
-    const std::vector<std::vector<char>> turns = facing_turns(regions);
+    const std::vector<std::vector<char>> turns = outside_turns(parts);
     Mesh joined;
     joined.origin = grid.origin, joined.cell_size = grid.cell_size;
-    std::unordered_map<std::array<float, 3>, std::uint32_t, PlaceBits, SameBits> at;
+    PlaceMap<std::uint32_t> at;
     for (std::size_t k = 0; k < tiles.size(); ++k) {
-        Mesh& m = tiles[k];
-        turn_regions(m, regions[k], turns[k]);
+        const Mesh m = finish_tile_sheet(std::move(tiles[k]), turns[k], windows[k]);
         std::vector<std::uint32_t> index(m.positions.size(), ~std::uint32_t{0});
         for (auto t : m.triangles) {
             for (std::uint32_t& v : t) {

@@ -4,19 +4,22 @@
 //     const Mesh sheet = extract_sheet_in_tiles(grid, automatic_iso(grid), 64, 8);
 //
 // Each tile (tile_cells x tile_cells cells in x and y, all of z) is meshed from its own cells
-// and a halo round them (bricks_within), with the survey the tiles make together
-// (sheet_survey_part, combined_survey: surface_sheet.hpp), and keeps the triangles whose centroid
-// lies in it; the tiles' regions are turned to face as one (tile_facing.hpp) and their meshes
-// joined where their vertices coincide (a halo of 8 cells or more gives two tiles the same
-// vertices along their shared border, bit for bit). Each step looks at one tile, or at what the
-// tiles hand on (their survey parts and their regions), never at the whole grid: the steps a
-// cluster's tile jobs can take each on its own machine, here taken in turn on one.
+// and a halo round them (bricks_within), and keeps the triangles whose centroid lies in it. Three
+// things are decided from what the tiles hand on, each small beside their cells: the survey
+// (the scan's noise and the outside: sheet_survey_part, combined_survey), which way the planes
+// face (unfaced_planes, plane_facing: surface_sheet.hpp) and which connected parts turn to face
+// the outside (tile_facing.hpp). The meshes are joined where their vertices coincide (a halo of 8
+// cells or more gives two tiles the same vertices along their shared border, bit for bit): the
+// whole grid's sheet, triangle for triangle. Each step looks at one tile, or at what the tiles
+// hand on, never at the grid's cells as one: the steps a cluster's tile jobs can take each on its
+// own machine, here taken in turn on one.
 #pragma once
 
 #include "grid/cell_sums.hpp"
 #include "lasmesh/mesh.hpp"
 #include "mesh/seam_corners.hpp"
 #include "mesh/surface_sheet.hpp"
+#include "mesh/tile_facing.hpp"
 
 #include <array>
 #include <cstdint>
@@ -46,18 +49,29 @@ TiledSurvey survey_tiles(const GridSpec& grid, const std::vector<std::array<std:
 std::vector<std::array<std::int64_t, 3>> tile_thin_cells(const CellGrid& part, double iso,
                                                          const std::array<std::int64_t, 4>& window);
 
-// One tile's sheet: `part` holds the tile's cells and its halo's (in the grid's frame), and the
-// triangles whose centroid lies in `window` are kept. With `seam` (seam_corners_of, its samples
-// sized to its corners), the tile samples the seam's corners in and on its window and writes
-// those it owns (x in [window[0], window[1]), y likewise; the grid's last corners to its last
-// tiles) into `seam`: every tile of the grid so, the seam is sampled as the whole grid's sheet
-// samples it (but for the sign of a corner whose tile faces the other way: SeamFaces signs each
-// corner the way the fine sheet faces).
-Mesh tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const std::array<std::int64_t, 4>& window,
-                SeamCorners* seam = nullptr);
+// The tiles' planes faced as the whole grid's (unfaced_planes of each tile, plane_facing).
+PlaneFacing face_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
+                       const TilePart& part_of, double iso, const SheetSurvey& survey);
 
-// Every tile's sheet (tile_sheet), their regions turned to face as one (tile_facing.hpp) and
-// their meshes joined; `seam`, when given, sampled by the tiles.
+// One tile's sheet before step 5: `part` holds the tile's cells and its halo's (in the grid's
+// frame), its planes faced as `facing` says, marched (faced_sheet), with what outside_turns needs
+// of it (tile_facing.hpp). With `seam` (seam_corners_of, its samples sized to its corners), the
+// tile samples the seam's corners in and on its window and writes those it owns (x in
+// [window[0], window[1]), y likewise; the grid's last corners to its last tiles) into `seam`:
+// every tile of the grid so, the seam is sampled as the whole grid's sheet samples it.
+struct TileSheet {
+    FacedSheet faced;
+    TileParts parts;
+};
+TileSheet tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const PlaneFacing& facing,
+                     const std::array<std::int64_t, 4>& window, SeamCorners* seam = nullptr);
+// The tile's share of the sheet once its parts' turns are known (outside_turns): turned, plates
+// split into their faces, and the triangles whose centroid lies in `window` kept.
+Mesh finish_tile_sheet(TileSheet&& sheet, const std::vector<char>& turns, const std::array<std::int64_t, 4>& window);
+
+// Every tile's sheet, faced as one (face_tiles, tile_sheet, outside_turns, finish_tile_sheet), and
+// their meshes joined where their vertices coincide; `seam`, when given, sampled by the tiles.
+// The whole grid's sheet, triangle for triangle, with a halo of 8 cells or more.
 Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int64_t, 4>>& windows,
                      const TilePart& part_of, double iso, const SheetSurvey& survey, SeamCorners* seam = nullptr);
 
