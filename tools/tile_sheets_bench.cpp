@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -194,15 +195,36 @@ int main(int argc, char** argv) {
     std::printf("survey from the tiles: noise %s (%.3g), outside %s\n",
                 from_tiles.noise == survey.noise ? "the whole grid's" : "NOT the whole grid's", from_tiles.noise,
                 *from_tiles.outside == *survey.outside ? "the whole grid's" : "NOT the whole grid's");
+    {
+        // What the tiles hand on to face their planes together, and what comes back.
+        std::size_t planes = 0;
+        std::vector<UnfacedPlanes> unfaced;
+        for (const auto& w : windows)
+            if (const CellGrid part = part_of(w); !part.cells.empty()) {
+                unfaced.push_back(unfaced_planes(part, iso, from_tiles, w));
+                planes += unfaced.back().key.size();
+            }
+        const PlaneFacing facing = plane_facing(unfaced, grid.spec, from_tiles);
+        const std::size_t bytes = sizeof(std::uint64_t) * 2 + sizeof(double) * 6 + sizeof(float);
+        std::printf("planes handed on: %zu (%.1f MB), %zu turned; the grid's cells %.1f MB\n", planes,
+                    double(planes * bytes) / 1e6, facing.turned.size(),
+                    double(grid.cells.size() * sizeof(CellSums)) / 1e6);
+    }
     if (thin) {
         Mesh whole_thin, tiled_thin;
         meshes_with_thin_parts(input, grid, iso, windows, part_of, survey, tiled_survey, whole_thin, tiled_thin);
         append_welded(whole, whole_at, whole_thin, [](const auto&) { return true; });
         append_welded(tiled, tiled_at, tiled_thin, [](const auto&) { return true; });
     } else {
-        append_welded(whole, whole_at, extract_sheet(grid, iso), [](const auto&) { return true; });
-        append_welded(tiled, tiled_at, sheets_of_tiles(grid.spec, windows, part_of, iso, from_tiles),
-                      [](const auto&) { return true; });
+        const auto start = std::chrono::steady_clock::now();
+        const Mesh whole_sheet = extract_sheet(grid, iso);
+        const auto between = std::chrono::steady_clock::now();
+        const Mesh tiled_sheet = sheets_of_tiles(grid.spec, windows, part_of, iso, from_tiles);
+        const std::chrono::duration<double> one = between - start, tiles = std::chrono::steady_clock::now() - between;
+        std::printf("wall: the whole grid's sheet %.2f s, the tiles' (their survey made already) %.2f s\n", one.count(),
+                    tiles.count());
+        append_welded(whole, whole_at, whole_sheet, [](const auto&) { return true; });
+        append_welded(tiled, tiled_at, tiled_sheet, [](const auto&) { return true; });
     }
     const auto a = triangle_keys(whole), b = triangle_keys(tiled);
     std::vector<std::array<std::uint64_t, 3>> only_whole, only_tiled;

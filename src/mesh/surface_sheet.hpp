@@ -75,9 +75,10 @@ Mesh extract_sheet(CellGrid&& grid, double iso, LinearParts linear = LinearParts
 // plate's two faces are told) and the space outside every surface (which way each piece faces).
 // The rest looks a few cells around each cell, so a part of the grid (some of its bricks, with
 // the grid's size and origin) meshed with the whole grid's SheetSurvey gives the whole grid's
-// sheet there, but for the orientation near the part's edges: tiles can be meshed one by one,
-// each with a halo of cells round it, and their sheets joined (tile_facing.hpp). Measured on the generated decks
-// (docs/design.md, "Over many machines").
+// sheet there, but for which way its planes and its connected parts face, which look at whole
+// pieces (plane_facing below, and tile_facing.hpp): tiles can be meshed one by one, each with a
+// halo of cells round it, and their sheets joined (tiled_sheet.hpp; docs/design.md, "Over many
+// machines").
 struct SheetSurvey {
     double noise = 0; // a variance, in the grid's units squared; 0: none measured (no plate is split)
     std::shared_ptr<const OutsideSpace> outside;
