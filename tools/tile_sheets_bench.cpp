@@ -204,10 +204,12 @@ int main(int argc, char** argv) {
                 unfaced.push_back(unfaced_planes(part, iso, from_tiles, w));
                 planes += unfaced.back().key.size();
             }
+        const auto start = std::chrono::steady_clock::now();
         const PlaneFacing facing = plane_facing(unfaced, grid.spec, from_tiles);
+        const std::chrono::duration<double> facing_time = std::chrono::steady_clock::now() - start;
         const std::size_t bytes = sizeof(std::uint64_t) * 2 + sizeof(double) * 6 + sizeof(float);
-        std::printf("planes handed on: %zu (%.1f MB), %zu turned; the grid's cells %.1f MB\n", planes,
-                    double(planes * bytes) / 1e6, facing.turned.size(),
+        std::printf("planes handed on: %zu (%.1f MB), %zu turned, faced together in %.2f s; the grid's cells %.1f MB\n",
+                    planes, double(planes * bytes) / 1e6, facing.turned.size(), facing_time.count(),
                     double(grid.cells.size() * sizeof(CellSums)) / 1e6);
     }
     if (thin) {
