@@ -19,6 +19,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <queue>
 
 namespace lasmesh {
 
@@ -173,13 +174,12 @@ struct Planes {
     Planes(const CellGrid& index, UnfacedPlanes&& made)
         : grid(index), centroid(std::move(made.centroid)), normal(std::move(made.normal)), count(std::move(made.count)),
           half_thickness(std::move(made.half_thickness)) {
-        of_record.resize(made.key.size());
-        cell.reserve(made.key.size());
-        for (std::size_t p = 0; p < made.key.size(); ++p) {
-            of_record[p] = static_cast<std::uint32_t>(p);
-            cell.push_back(index.cell_in_brick(made.key[p] / CellGrid::brick_cells,
-                                               static_cast<unsigned>(made.key[p] % CellGrid::brick_cells)));
-        }
+        of_record.resize(centroid.size());
+        cell.reserve(centroid.size());
+        index.for_each_cell([&](const std::array<std::int64_t, 3>& at, std::uint64_t r) {
+            of_record[r] = static_cast<std::uint32_t>(r);
+            cell.push_back(at);
+        });
     }
     // From the grid's brick index only (its cells may be gone).
     std::uint32_t at(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -1114,43 +1114,67 @@ UnfacedPlanes unfaced_planes(const CellGrid& part, double iso, const SheetSurvey
     return in;
 }
 
-PlaneFacing plane_facing(const std::vector<UnfacedPlanes>& parts, const GridSpec& grid, const SheetSurvey& survey) {
-    // The parts' planes in the grid's order, each part's in order and the parts' windows apart.
-    std::vector<std::pair<std::uint64_t, std::pair<std::size_t, std::size_t>>> order; // key, (part, plane)
+PlaneFacing plane_facing(std::vector<UnfacedPlanes> parts, const GridSpec& grid, const SheetSurvey& survey) {
+    // The parts' planes in the grid's order: each part's are in order, so the parts are merged (a
+    // heap of the parts' next planes) and each freed once taken in: the memory is the planes'
+    // twice at most, with no order over them.
+    std::size_t total = 0;
     bool plates = false;
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-        for (std::size_t p = 0; p < parts[k].key.size(); ++p) order.push_back({parts[k].key[p], {k, p}});
-        plates = plates || !parts[k].half_thickness.empty();
+    for (const UnfacedPlanes& part : parts) {
+        total += part.key.size();
+        plates = plates || !part.half_thickness.empty();
     }
-    std::sort(order.begin(), order.end());
     UnfacedPlanes all;
+    all.centroid.reserve(total), all.normal.reserve(total), all.count.reserve(total);
+    if (plates) all.half_thickness.reserve(total);
     CellGrid index;
     index.spec = grid;
     for (int a = 0; a < 3; ++a)
         index.bricks[a] = static_cast<std::uint32_t>((grid.dims[a] + CellGrid::brick_size - 1) / CellGrid::brick_size);
-    for (const auto& [key, at] : order) {
-        const UnfacedPlanes& from = parts[at.first];
-        all.key.push_back(key);
-        all.centroid.push_back(from.centroid[at.second]);
-        all.normal.push_back(from.normal[at.second]);
-        all.count.push_back(from.count[at.second]);
-        if (plates) all.half_thickness.push_back(from.half_thickness.empty() ? 0.f : from.half_thickness[at.second]);
+    using Next = std::pair<std::uint64_t, std::size_t>; // a part's next key, the part
+    std::priority_queue<Next, std::vector<Next>, std::greater<>> next;
+    std::vector<std::size_t> taken(parts.size(), 0);
+    for (std::size_t k = 0; k < parts.size(); ++k)
+        if (!parts[k].key.empty()) next.push({parts[k].key.front(), k});
+    while (!next.empty()) {
+        const auto [key, k] = next.top();
+        next.pop();
+        UnfacedPlanes& from = parts[k];
+        const std::size_t p = taken[k]++;
+        all.centroid.push_back(from.centroid[p]);
+        all.normal.push_back(from.normal[p]);
+        all.count.push_back(from.count[p]);
+        if (plates) all.half_thickness.push_back(from.half_thickness.empty() ? 0.f : from.half_thickness[p]);
+        if (taken[k] < from.key.size())
+            next.push({from.key[taken[k]], k});
+        else
+            from = UnfacedPlanes{};
         const std::uint64_t brick = key / CellGrid::brick_cells;
         if (index.brick_keys.empty() || index.brick_keys.back() != brick) {
             index.brick_keys.push_back(brick);
             index.brick_masks.push_back(0);
-            index.brick_first.push_back(all.key.size() - 1);
+            index.brick_first.push_back(all.count.size() - 1);
         }
         index.brick_masks.back() |= std::uint64_t{1} << (key % CellGrid::brick_cells);
     }
     index.index_bricks();
-    const std::vector<Vec> made = all.normal;
-    std::vector<std::uint64_t> keys = all.key;
+    // Step 2 only ever negates a normal: the sign of each plane's largest component, before,
+    // tells whether it turned.
+    std::vector<std::int8_t> was(total);
+    for (std::size_t p = 0; p < total; ++p) {
+        const Vec& n = all.normal[p];
+        const int a = std::abs(n[0]) >= std::abs(n[1]) && std::abs(n[0]) >= std::abs(n[2]) ? 0
+                      : std::abs(n[1]) >= std::abs(n[2])                                   ? 1
+                                                                                           : 2;
+        was[p] = static_cast<std::int8_t>(n[a] < 0 ? -(a + 1) : a + 1);
+    }
     Planes planes(index, std::move(all));
     orient_normals(planes, *survey.outside);
     PlaneFacing facing;
-    for (std::size_t p = 0; p < keys.size(); ++p)
-        if (dot(planes.normal[p], made[p]) < 0) facing.turned.push_back(keys[p]);
+    for (std::size_t p = 0; p < total; ++p) {
+        const int a = std::abs(was[p]) - 1;
+        if ((planes.normal[p][a] < 0) != (was[p] < 0)) facing.turned.push_back(index.order_key(planes.cell[p]));
+    }
     return facing;
 }
 

@@ -123,8 +123,8 @@ struct PlaneFacing {
     std::vector<std::uint64_t> turned;
 };
 // The parts' planes together (the parts' windows apart), oriented as the whole grid's sheet
-// orients its planes.
-PlaneFacing plane_facing(const std::vector<UnfacedPlanes>& parts, const GridSpec& grid, const SheetSurvey& survey);
+// orients its planes; each part is freed once taken in.
+PlaneFacing plane_facing(std::vector<UnfacedPlanes> parts, const GridSpec& grid, const SheetSurvey& survey);
 // A part's sheet with its planes faced as `facing` says (those it does not name face along their
 // points' normal), marched, its vertex normals agreeing with its faces; before its connected parts
 // are turned to face the outside (step 5, which needs the whole sheet's parts: tile_facing.hpp)

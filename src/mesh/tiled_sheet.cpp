@@ -54,7 +54,7 @@ PlaneFacing face_tiles(const GridSpec& grid, const std::vector<std::array<std::i
     for (const auto& w : windows)
         if (const CellGrid part = part_of(w); !part.cells.empty())
             parts.push_back(unfaced_planes(part, iso, survey, w));
-    return plane_facing(parts, grid, survey);
+    return plane_facing(std::move(parts), grid, survey);
 }
 
 TileSheet tile_sheet(const CellGrid& part, double iso, const SheetSurvey& survey, const PlaneFacing& facing,
