@@ -899,14 +899,14 @@ struct SheetField {
     }
 };
 
+} // namespace
+
 // Step 6: where a plate has two faces (estimate_thickness), its sheet becomes two: every triangle
 // with a corner on a plate is copied, the copy turned over and each moved half the plate's
 // thickness along its normals, out to the side it faces. The vertices of such triangles where the
 // plate ends (half thickness 0) stay where they are: the front face shares them with the sheet it
 // continues, the back face has its own, so the back face is an open sheet of its own and no edge
 // gets three triangles.
-} // namespace
-
 void split_two_faces(Mesh& mesh, const std::vector<float>& half) {
     const std::size_t nv = mesh.positions.size(), nt = mesh.triangles.size();
     std::vector<std::uint32_t> back(nv, UINT32_MAX);
