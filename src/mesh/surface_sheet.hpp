@@ -105,9 +105,10 @@ Mesh extract_sheet(const CellGrid& part, double iso, const SheetSurvey& survey,
 // The one step of the sheet that a part cannot take from its cells and a halo round them is which
 // way its planes face (step 2: a spanning tree over the whole grid's planes, each piece facing the
 // way most of it sees the outside). A part hands on its planes before they are faced, those whose
-// cell lies in `window` (x from window[0] to window[1], y from window[2] to window[3]); the
-// planes are small beside the cells (a plane's place, normal and count against a cell's sums
-// and moments), and orienting them is one pass of the tree. With a halo of 8 cells or more round
+// cell lies in `window` (x from window[0] to window[1], y from window[2] to window[3]): fewer
+// bytes than the cells (surface cells only, a place, normal and count against a cell's sums and
+// moments: three fifths of them on the generated decks), and orienting them is one pass of the
+// tree. With a halo of 8 cells or more round
 // each part, the parts' planes are the whole grid's, and plane_facing orients them as the whole
 // grid's sheet does, bit for bit.
 struct UnfacedPlanes {

@@ -4,28 +4,18 @@
 #include "mesh/mesh_edit.hpp"
 #include "mesh/place_bits.hpp"
 
-#include <bit>
 #include <numeric>
-#include <unordered_map>
 
 namespace lasmesh {
 
-namespace {
-
-// A triangle's centroid in x and y, in cells.
-std::array<double, 2> centroid_cells(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
-    std::array<double, 2> c{};
+bool centroid_within(const Mesh& m, const std::array<std::uint32_t, 3>& t, const std::array<std::int64_t, 4>& window,
+                     double margin) {
+    double c[2]{};
     for (int k = 0; k < 3; ++k)
         for (int a = 0; a < 2; ++a) c[a] += double(m.positions[t[k]][a]) / (3 * m.cell_size);
-    return c;
+    return c[0] >= double(window[0]) - margin && c[0] < double(window[1]) + margin &&
+           c[1] >= double(window[2]) - margin && c[1] < double(window[3]) + margin;
 }
-
-bool within(const std::array<double, 2>& c, const std::array<std::int64_t, 4>& w, double margin) {
-    return c[0] >= double(w[0]) - margin && c[0] < double(w[1]) + margin && c[1] >= double(w[2]) - margin &&
-           c[1] < double(w[3]) + margin;
-}
-
-} // namespace
 
 TileParts tile_parts(const Mesh& sheet, const std::array<std::int64_t, 4>& window, const OutsideSpace& outside) {
     // A plate's split moves a triangle's centroid by under half a cell: the triangles a tile may
@@ -35,10 +25,9 @@ TileParts tile_parts(const Mesh& sheet, const std::array<std::int64_t, 4>& windo
     near.cell_size = sheet.cell_size;
     std::vector<char> in_window;
     for (const auto& t : sheet.triangles) {
-        const std::array<double, 2> c = centroid_cells(sheet, t);
-        if (!within(c, window, 1)) continue;
+        if (!centroid_within(sheet, t, window, 1)) continue;
         near.triangles.push_back(t);
-        in_window.push_back(within(c, window, 0));
+        in_window.push_back(centroid_within(sheet, t, window));
     }
     const std::vector<std::uint32_t> root = connected_parts(near);
     TileParts parts;

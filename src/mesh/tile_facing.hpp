@@ -26,6 +26,12 @@
 
 namespace lasmesh {
 
+// Whether triangle t's centroid lies in `window` (x from window[0] to window[1], y from window[2]
+// to window[3], in cells of m.cell_size, from the grid origin), or within `margin` cells of it:
+// the tile a triangle belongs to.
+bool centroid_within(const Mesh& m, const std::array<std::uint32_t, 3>& t, const std::array<std::int64_t, 4>& window,
+                     double margin = 0);
+
 // What outside_turns needs of one tile's sheet.
 struct TileParts {
     static constexpr std::uint32_t none = UINT32_MAX;

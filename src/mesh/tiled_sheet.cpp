@@ -95,14 +95,8 @@ Mesh finish_tile_sheet(TileSheet&& sheet, const std::vector<char>& turns, const 
     Mesh mesh = std::move(sheet.faced.mesh);
     turn_over(mesh, vertex_turns(sheet.parts, turns));
     if (!sheet.faced.half.empty()) split_two_faces(mesh, sheet.faced.half);
-    const double cell = mesh.cell_size;
-    std::erase_if(mesh.triangles, [&](const std::array<std::uint32_t, 3>& t) {
-        double c[2]{};
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 2; ++a) c[a] += double(mesh.positions[t[k]][a]) / (3 * cell);
-        return c[0] < double(window[0]) || c[0] >= double(window[1]) || c[1] < double(window[2]) ||
-               c[1] >= double(window[3]);
-    });
+    std::erase_if(mesh.triangles,
+                  [&](const std::array<std::uint32_t, 3>& t) { return !centroid_within(mesh, t, window); });
     return mesh;
 }
 
