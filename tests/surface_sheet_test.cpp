@@ -870,6 +870,14 @@ TEST_CASE("a grid meshed tile by tile is the whole grid's sheet, triangle for tr
             triangles_in_x(extract_sheet(g, automatic_iso(g)), -everywhere, everywhere);
         CHECK(whole.size() > 20000);
         CHECK(count_differing(whole, tiled(g, 32)) == 0);
+        // In the tiles' order, the whole grid's sheet is the tiles' sheet array for array.
+        const Mesh ordered = in_tile_order(extract_sheet(g, automatic_iso(g)), g.spec, 32);
+        const Mesh got = extract_sheet_in_tiles(g, automatic_iso(g), 32, 8);
+        CHECK(ordered.triangles.size() == whole.size());
+        CHECK(ordered.triangles == got.triangles);
+        CHECK(ordered.positions == got.positions);
+        CHECK(ordered.colors == got.colors);
+        CHECK(ordered.normals == got.normals);
     }
 }
 

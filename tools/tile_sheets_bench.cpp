@@ -11,7 +11,8 @@
 // --thin, both meshes have the thin parts meshed at half the cell and joined to the sheet, as
 // lasmesh does by default (finest_sheet_in_tiles: the whole grid's as one tile, and the tiles'),
 // and it says whether the tiles find the whole grid's thin cells and sample the seam's corners
-// as the whole grid does.
+// as the whole grid does. Without --thin, it says whether the whole grid's sheet in the tiles'
+// order (in_tile_order) is the tiles' sheet array for array.
 //
 // Usage: tile_sheets_bench INPUT.las TILE HALO PREFIX [--thin]
 #include "build_steps.hpp"
@@ -244,6 +245,12 @@ int main(int argc, char** argv) {
         const std::chrono::duration<double> one = between - start, tiles = std::chrono::steady_clock::now() - between;
         std::printf("wall: the whole grid's sheet %.2f s, the tiles' (their survey made already) %.2f s\n", one.count(),
                     tiles.count());
+        const Mesh ordered = in_tile_order(Mesh(whole_sheet), grid.spec, tile);
+        std::printf("the whole grid's sheet in the tiles' order (in_tile_order) %s the tiles' sheet\n",
+                    ordered.triangles == tiled_sheet.triangles && ordered.positions == tiled_sheet.positions &&
+                            ordered.colors == tiled_sheet.colors && ordered.normals == tiled_sheet.normals
+                        ? "is, array for array,"
+                        : "is NOT");
         append_welded(whole, whole_at, whole_sheet, [](const auto&) { return true; });
         append_welded(tiled, tiled_at, tiled_sheet, [](const auto&) { return true; });
     }
