@@ -299,7 +299,7 @@ Bounds scanned_bounds(Survey& survey, bool skip_bad, std::vector<std::string>& l
 constexpr std::uint32_t default_tile_cells = 64;
 
 TilesetLattice tileset_lattice(const GridSpec& finest, double tile_size, std::size_t& levels) {
-    const std::uint32_t tile_cells = tile_size > 0 ? tile_cells_for(tile_size, finest.cell_size) : default_tile_cells;
+    const std::uint32_t tile_cells = finest_tile_cells(finest, tile_size);
     const std::uint32_t longest = std::max(finest.dims[0], finest.dims[1]);
     levels = 1;
     while ((std::uint64_t{tile_cells} << (levels - 1)) < longest) ++levels;
@@ -319,6 +319,10 @@ void add_placement_notes(const std::vector<OutputRequest>& outputs, const std::o
 }
 
 } // namespace
+
+std::uint32_t finest_tile_cells(const GridSpec& finest, double tile_size) {
+    return tile_size > 0 ? tile_cells_for(tile_size, finest.cell_size) : default_tile_cells;
+}
 
 SurveyStart open_survey(const std::vector<std::string>& inputs, const BuildOptions& o, RunReport& r) {
     SurveyStart start;
@@ -370,21 +374,25 @@ void fit_grid_to_points(CellGrid& grid, const BuildOptions& o, std::vector<std::
                     times + ", where they hold a median of " + std::to_string(grid.median_count()));
 }
 
-void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
-                 bool note_outputs, const BuildOptions& o, double seconds, BuildObserver& watch, Accumulation& a,
-                 RunReport& r) {
+CellFacts cell_facts(const CellGrid& grid) {
+    return {grid.occupied_cells(), grid.fullest_cell(), grid.median_count(), grid.host_bytes()};
+}
+
+void report_grid(const CellGrid& grid, const CellFacts& facts, const Survey& survey,
+                 const std::vector<std::string>& reader_warnings, bool note_outputs, const BuildOptions& o,
+                 double seconds, BuildObserver& watch, Accumulation& a, RunReport& r) {
     r.warnings.insert(r.warnings.end(), reader_warnings.begin(), reader_warnings.end());
     r.input_files = survey.files.size();
     for (const SkippedInput& skipped : survey.skipped) r.skipped_inputs.push_back(skipped.reason);
     r.grid_reason = grid.grid_reason;
     r.read_accumulate = seconds;
     r.points_read = grid.points_read, r.points_outside = grid.points_outside, r.grid = grid.spec;
-    a.fullest_cell = grid.fullest_cell(); // for the message should the mesh come out empty
-    r.occupied_cells = grid.occupied_cells();
-    r.median_count = grid.median_count();
+    a.fullest_cell = facts.fullest; // for the message should the mesh come out empty
+    r.occupied_cells = facts.occupied;
+    r.median_count = facts.median;
     r.occupied_bricks = grid.brick_keys.size();
     r.pool_bytes = r.occupied_bricks * brick_device_bytes(grid.has_color());
-    r.host_grid_bytes = grid.host_bytes();
+    r.host_grid_bytes = facts.host_bytes;
     if (has_color(survey.header) && !grid.has_color())
         r.warnings.push_back("note: " + r.input + ": the colour of every point is 0 (black): the mesh has no colour");
     if (double(r.median_count) > too_coarse_points_per_cell)
@@ -457,10 +465,10 @@ void accumulate_survey(const std::vector<std::string>& inputs, const BuildOption
         break;
     }
     fit_grid_to_points(grid, o, reader_warnings);
-    report_grid(grid, survey, reader_warnings, note_outputs, o, seconds_since(start), watch, a, r);
+    report_grid(grid, cell_facts(grid), survey, reader_warnings, note_outputs, o, seconds_since(start), watch, a, r);
 }
 
-bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, const CellGrid& grid,
+bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, std::uint64_t median,
                         RunReport& r) {
     if (o.refine_thin != ThinRefinement::automatic) return o.refine_thin == ThinRefinement::always;
     if (o.surface != SurfaceKind::sheet) {
@@ -477,7 +485,7 @@ bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptio
                                " cannot be read twice: save it to a file to refine them";
             return false;
         }
-    if (const std::uint64_t median = grid.median_count(); median < thin_parts_min_median) {
+    if (median < thin_parts_min_median) {
         r.thin_unrefined = "the points are too sparse for half cells (a median of " + std::to_string(median) +
                            " in an occupied cell, " + std::to_string(thin_parts_min_median) + " needed)";
         return false;
@@ -609,11 +617,22 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
     return read_thin_parts(*plan, inputs, left_out, o, watch, r);
 }
 
+namespace {
+
+// The detail line of how the thin parts' mesh joined the sheet.
+std::string seam_line(const SeamReport& seam) {
+    return "seam           " + four_digits(seam.open_after) + " of " + four_digits(seam.open_before) +
+           " of border left open where the two meshes meet (" + std::to_string(seam.joined) + " stretches joined)";
+}
+
+} // namespace
+
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
-                      double seconds_before, const Refinement* refined, const ThinReadPlan* thin_read) {
+                      double seconds_before, const Refinement* refined, const ThinReadPlan* thin_read,
+                      GridInTiles* in_tiles) {
     const auto mesh_start = std::chrono::steady_clock::now();
     BuildResult result;
     // Under a memory limit the second read comes first, alone: each step's check of the memory
@@ -624,12 +643,13 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         r.read_accumulate += r.thin_read;
         refined = &*read_first, thin_read = nullptr;
     }
+    if (in_tiles && in_tiles->refined) refined = &*in_tiles->refined;
     const bool thin_refined = refined || thin_read;
     watch.stage_started(BuildStage::extract, "extracting the surface");
     const auto extract_start = std::chrono::steady_clock::now();
     r.iso_auto = !o.iso;
-    r.iso = o.iso ? *o.iso : automatic_iso(grid);
-    if (o.max_memory) check_extraction_memory(grid, r.iso, o, formats, r.input, a.memory_in_use);
+    r.iso = in_tiles ? in_tiles->iso : o.iso ? *o.iso : automatic_iso(grid);
+    if (o.max_memory && !in_tiles) check_extraction_memory(grid, r.iso, o, formats, r.input, a.memory_in_use);
     r.surface = o.surface;
     r.placement = o.placement;
     // A tileset's coarser levels, coarsest first: the grid's cells merged 2 x 2 x 2, exactly.
@@ -640,8 +660,12 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
     if (tileset) {
         lattice = tileset_lattice(grid.spec, o.tile_size, level_count);
         for (std::size_t k = 1; k < level_count; ++k)
-            coarser.insert(coarser.begin(), coarsen_grid(k == 1 ? grid : coarser.front()));
+            coarser.insert(coarser.begin(), k > 1      ? coarsen_grid(coarser.front())
+                                            : in_tiles ? std::move(in_tiles->coarser)
+                                                       : coarsen_grid(grid));
     }
+    const std::uint32_t tile_order =
+        tileset && o.surface == SurfaceKind::sheet ? finest_tile_cells(grid.spec, o.tile_size) : 0;
     // Extraction, small pieces, simplification and normals: the mesh of one grid.
     const auto surface_of = [&](CellGrid&& cells, double iso, PieceCount* pieces, SimplifyReport* simplified) {
         const double cell = cells.spec.cell_size;
@@ -649,7 +673,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
         std::shared_ptr<const Accumulation::Surface> kept; // the finest level's, when it has the same options
         if (pieces && a.keeps_surface) {
             const std::lock_guard lock(a.surface_mutex);
-            if (a.surface && a.surface->same_options(iso, o, thin_refined)) kept = a.surface;
+            if (a.surface && a.surface->same_options(iso, o, thin_refined, tile_order)) kept = a.surface;
         }
         Mesh m;
         std::size_t extracted = 0;
@@ -660,75 +684,87 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             watch.detail("extracted      " + std::to_string(extracted) + " triangles at iso " + four_digits(iso) +
                          ", the accumulation's surface re-used");
         } else {
-            // The second read of the thin parts and their mesh are made in a thread of their own
-            // while the grid is extracted, from the moment the grid's cells are released (their
-            // memory and the read's never add up): the two take about as long, and each leaves
-            // cores idle (the read waits on the input and the device, the extraction has serial
-            // steps). The read tells a recorder, replayed to the observer here once it is joined:
-            // the observer hears only from the calling thread, in order.
-            // The fine sheet ends on the refined cells' faces where this sheet does: it waits for
-            // this sheet's samples at their corners, made before this sheet is marched.
-            const std::vector<std::uint64_t>* seam_cells = !pieces     ? nullptr
-                                                           : thin_read ? &thin_read->mesh_cells
-                                                           : refined   ? &refined->cells
-                                                                       : nullptr;
-            std::shared_future<SeamCorners> seam_corners;    // before `thin_mesh`: the read may wait on it
-            std::function<const SeamCorners&()> coarse_seam; // set once they are asked for
-            RunReport read_report;                           // before `thin_mesh`, whose end the unwinding waits for
-            RecordedObserver read_told;                      // the same
-            std::future<Mesh> thin_mesh;                     // from std::async: its destructor waits for the read
-            // After `thin_mesh`: on unwinding it goes first, so a read waiting on it wakes (to a
-            // broken promise) before thin_mesh's destructor waits for that read.
-            std::promise<SeamCorners> seam_sampled;
-            seam_corners = seam_sampled.get_future().share();
-            const auto start_reading = [&] {
-                if (thin_read && pieces)
-                    thin_mesh = std::async(std::launch::async, [&] {
-                        const Refinement read =
-                            read_thin_parts(*thin_read, inputs, a.left_out, o, read_told, read_report);
-                        return thin_parts_mesh(read, iso, r.iso_auto, spec, coarse_seam);
-                    });
-            };
-            // The sheet releases the grid's cells as soon as it no longer reads them; the closed
-            // surface holds them to the end (and is never refined: check_mesh_options).
-            if (o.surface == SurfaceKind::sheet) {
-                std::optional<SeamRequest> seam;
-                bool handed = false;
-                if (seam_cells) {
-                    seam = SeamRequest{seam_corners_of(*seam_cells, {spec.dims[0], spec.dims[1], spec.dims[2]}),
-                                       [&](SeamCorners&& c) { seam_sampled.set_value(std::move(c)), handed = true; }};
-                    coarse_seam = [&]() -> const SeamCorners& { return seam_corners.get(); };
-                }
-                m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading, seam ? &*seam : nullptr);
-                // A sheet that returned without sampling them must not leave the read waiting.
-                if (seam && !handed)
-                    seam_sampled.set_exception(std::make_exception_ptr(
-                        std::logic_error("the coarse sheet gave no samples on the seam's faces")));
+            if (in_tiles && pieces) { // the tiles' sheet, the thin parts joined to it
+                TiledFinest finest = finest_sheet_in_tiles(spec, in_tiles->windows, in_tiles->part_of, iso, r.iso_auto,
+                                                           in_tiles->survey, refined);
+                m = std::move(finest.mesh);
+                malloc_trim(0);
+                watch.detail("tiles          the sheet meshed in " + std::to_string(in_tiles->windows.size()) +
+                             " tiles, each from its tile's file and its neighbours'");
+                if (finest.seam) watch.detail(seam_line(*finest.seam));
             } else {
-                m = extract_closed_surface(cells, iso, o.placement);
-                start_reading();
-            }
-            // The cells near thin parts from the finer grid, the rest from this one.
-            if (thin_mesh.valid() || (refined && pieces)) {
-                const bool read_now = thin_mesh.valid();
-                const Mesh thin =
-                    read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec, coarse_seam);
-                if (read_now) {
-                    r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
-                    read_told.replay(watch);
-#ifdef __GLIBC__
-                    // The read's thread freed its grids into a malloc arena of its own, which
-                    // glibc keeps: given back now, they do not stay resident beside the growing
-                    // mesh (the merge of the 50M deck's 21 tiles peaked at 400 MB instead of 430).
-                    malloc_trim(0);
-#endif
+                // The second read of the thin parts and their mesh are made in a thread of their own
+                // while the grid is extracted, from the moment the grid's cells are released (their
+                // memory and the read's never add up): the two take about as long, and each leaves
+                // cores idle (the read waits on the input and the device, the extraction has serial
+                // steps). The read tells a recorder, replayed to the observer here once it is joined:
+                // the observer hears only from the calling thread, in order.
+                // The fine sheet ends on the refined cells' faces where this sheet does: it waits for
+                // this sheet's samples at their corners, made before this sheet is marched.
+                const std::vector<std::uint64_t>* seam_cells = !pieces     ? nullptr
+                                                               : thin_read ? &thin_read->mesh_cells
+                                                               : refined   ? &refined->cells
+                                                                           : nullptr;
+                std::shared_future<SeamCorners> seam_corners;    // before `thin_mesh`: the read may wait on it
+                std::function<const SeamCorners&()> coarse_seam; // set once they are asked for
+                RunReport read_report;       // before `thin_mesh`, whose end the unwinding waits for
+                RecordedObserver read_told;  // the same
+                std::future<Mesh> thin_mesh; // from std::async: its destructor waits for the read
+                // After `thin_mesh`: on unwinding it goes first, so a read waiting on it wakes (to a
+                // broken promise) before thin_mesh's destructor waits for that read.
+                std::promise<SeamCorners> seam_sampled;
+                seam_corners = seam_sampled.get_future().share();
+                const auto start_reading = [&] {
+                    if (thin_read && pieces)
+                        thin_mesh = std::async(std::launch::async, [&] {
+                            const Refinement read =
+                                read_thin_parts(*thin_read, inputs, a.left_out, o, read_told, read_report);
+                            return thin_parts_mesh(read, iso, r.iso_auto, spec, coarse_seam);
+                        });
+                };
+                // The sheet releases the grid's cells as soon as it no longer reads them; the closed
+                // surface holds them to the end (and is never refined: check_mesh_options).
+                if (o.surface == SurfaceKind::sheet) {
+                    std::optional<SeamRequest> seam;
+                    bool handed = false;
+                    if (seam_cells) {
+                        seam =
+                            SeamRequest{seam_corners_of(*seam_cells, {spec.dims[0], spec.dims[1], spec.dims[2]}),
+                                        [&](SeamCorners&& c) { seam_sampled.set_value(std::move(c)), handed = true; }};
+                        coarse_seam = [&]() -> const SeamCorners& { return seam_corners.get(); };
+                    }
+                    m = extract_sheet(std::move(cells), iso, LinearParts::planes, start_reading,
+                                      seam ? &*seam : nullptr);
+                    // A tileset's finest sheet in its tiles' order: the mesh a merge meshing it tile
+                    // by tile makes, so the two write the same bytes.
+                    if (tile_order > 0) m = in_tile_order(std::move(m), spec, tile_order);
+                    // A sheet that returned without sampling them must not leave the read waiting.
+                    if (seam && !handed)
+                        seam_sampled.set_exception(std::make_exception_ptr(
+                            std::logic_error("the coarse sheet gave no samples on the seam's faces")));
+                } else {
+                    m = extract_closed_surface(cells, iso, o.placement);
+                    start_reading();
                 }
-                const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
-                keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
-                const SeamReport seam = append_joined(m, thin, spec, fine_cells);
-                watch.detail("seam           " + four_digits(seam.open_after) + " of " + four_digits(seam.open_before) +
-                             " of border left open where the two meshes meet (" + std::to_string(seam.joined) +
-                             " stretches joined)");
+                // The cells near thin parts from the finer grid, the rest from this one.
+                if (thin_mesh.valid() || (refined && pieces)) {
+                    const bool read_now = thin_mesh.valid();
+                    const Mesh thin =
+                        read_now ? thin_mesh.get() : thin_parts_mesh(*refined, iso, r.iso_auto, spec, coarse_seam);
+                    if (read_now) {
+                        r.thin_cells = read_report.thin_cells, r.thin_read = read_report.thin_read;
+                        read_told.replay(watch);
+#ifdef __GLIBC__
+                        // The read's thread freed its grids into a malloc arena of its own, which
+                        // glibc keeps: given back now, they do not stay resident beside the growing
+                        // mesh (the merge of the 50M deck's 21 tiles peaked at 400 MB instead of 430).
+                        malloc_trim(0);
+#endif
+                    }
+                    const std::vector<std::uint64_t>& fine_cells = read_now ? thin_read->mesh_cells : refined->cells;
+                    keep_triangles_in_blocks(m, spec, 0, fine_cells, false);
+                    watch.detail(seam_line(append_joined(m, thin, spec, fine_cells)));
+                }
             }
             cells = CellGrid{}; // not needed any more: the writers get its memory
             extracted = m.triangles.size();
@@ -738,7 +774,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
             removed = remove_small_pieces(m, o.min_piece);
             if (pieces && a.keeps_surface) {
                 auto surface = std::make_shared<const Accumulation::Surface>(Accumulation::Surface{
-                    iso, o.surface, o.placement, o.min_piece, thin_refined, extracted, removed, m});
+                    iso, o.surface, o.placement, o.min_piece, thin_refined, tile_order, extracted, removed, m});
                 const std::lock_guard lock(a.surface_mutex);
                 a.surface = std::move(surface);
             }
@@ -874,7 +910,7 @@ BuildResult build_mesh(const std::vector<std::string>& inputs, const BuildOption
     RunReport r;
     accumulate_survey(inputs, o, true, watch, a, r);
     std::optional<ThinReadPlan> thin_read;
-    if (refines_thin_parts(inputs, o, a.grid, r)) thin_read = plan_thin_read(o, a.grid, r);
+    if (refines_thin_parts(inputs, o, a.grid.median_count(), r)) thin_read = plan_thin_read(o, a.grid, r);
     return mesh_grid(std::move(a.grid), a, std::move(r), inputs, o, formats, watch, seconds_since(start), nullptr,
                      thin_read ? &*thin_read : nullptr);
 }
@@ -909,7 +945,7 @@ BuildResult build_mesh(const AccumulatedInputs& accumulated, const BuildOptions&
     add_placement_notes(o.outputs, a.crs, r);
     // The thin parts: those read for this iso already, else read now and kept for the next mesh.
     std::shared_ptr<const Accumulation::ThinParts> thin;
-    if (refines_thin_parts(accumulated.inputs, o, a.grid, r)) {
+    if (refines_thin_parts(accumulated.inputs, o, a.grid.median_count(), r)) {
         const double iso = o.iso ? *o.iso : automatic_iso(a.grid);
         {
             const std::lock_guard lock(a.surface_mutex);

@@ -50,14 +50,15 @@ struct Accumulation {
         SurfaceKind surface{};
         VertexPlacement placement{};
         MinPiece min_piece;
-        bool refined = false;      // its thin parts meshed at half the cell (from the iso's)
-        std::size_t extracted = 0; // triangles before small pieces were removed
+        bool refined = false;         // its thin parts meshed at half the cell (from the iso's)
+        std::uint32_t tile_order = 0; // in the order of tiles of this many cells (in_tile_order); 0: the grid's
+        std::size_t extracted = 0;    // triangles before small pieces were removed
         PieceCount pieces;
         Mesh mesh;
-        bool same_options(double i, const BuildOptions& o, bool thin_refined) const {
+        bool same_options(double i, const BuildOptions& o, bool thin_refined, std::uint32_t tiles) const {
             return iso == i && surface == o.surface && placement == o.placement &&
                    min_piece.value == o.min_piece.value && min_piece.relative == o.min_piece.relative &&
-                   refined == thin_refined;
+                   refined == thin_refined && tile_order == tiles;
         }
     };
     bool keeps_surface = false;
@@ -87,6 +88,10 @@ std::uint64_t peak_rss_bytes();
 // `size` gives there (a hair over a whole number of cells, from the product, does not count).
 std::uint32_t tile_cells_for(double size, double cell);
 
+// The cells along a tileset's finest tiles' edge, for a tileset of `tile_size` (0: chosen) over
+// `finest`: the tiles the finest sheet is ordered by (in_tile_order) and a merge meshes it in.
+std::uint32_t finest_tile_cells(const GridSpec& finest, double tile_size);
+
 // The checks on what reading takes: inputs, options that cannot work.
 void check_read_options(const std::vector<std::string>& inputs, const BuildOptions& o);
 // The checks on what meshing and writing take; returns each output's format.
@@ -111,19 +116,29 @@ std::string device_line(const ComputeDevice& device);
 // `notes`. Not when the iso asked for is below 1 (then a lone point is a surface cell too).
 void fit_grid_to_points(CellGrid& grid, const BuildOptions& o, std::vector<std::string>& notes);
 
-// The read's fields of `r` from the accumulated grid (r.input and r.device set before), and
-// what `a` keeps of the survey; the outputs' placement notes when `note_outputs`.
-void report_grid(const CellGrid& grid, const Survey& survey, const std::vector<std::string>& reader_warnings,
-                 bool note_outputs, const BuildOptions& o, double seconds, BuildObserver& watch, Accumulation& a,
-                 RunReport& r);
+// What the report, the automatic iso and the thin parts' check take of a grid's cells: counted
+// from them (cell_facts), or by a merge from its tiles' files without holding the cells together.
+struct CellFacts {
+    std::uint64_t occupied = 0, fullest = 0, median = 0;
+    std::uint64_t host_bytes = 0; // CellGrid::host_bytes with the cells held
+};
+CellFacts cell_facts(const CellGrid& grid);
+
+// The read's fields of `r` from the accumulated grid (r.input and r.device set before; its cells
+// as `facts` counts them), and what `a` keeps of the survey; the outputs' placement notes when
+// `note_outputs`.
+void report_grid(const CellGrid& grid, const CellFacts& facts, const Survey& survey,
+                 const std::vector<std::string>& reader_warnings, bool note_outputs, const BuildOptions& o,
+                 double seconds, BuildObserver& watch, Accumulation& a, RunReport& r);
 
 // Reads the inputs and sums their points into `a.grid`, then report_grid.
 void accumulate_survey(const std::vector<std::string>& inputs, const BuildOptions& o, bool note_outputs,
                        BuildObserver& watch, Accumulation& a, RunReport& r);
 
-// Whether the thin parts of `grid` are meshed at half the cell (BuildOptions::refine_thin); when
-// automatic and not, r.thin_unrefined says why.
-bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, const CellGrid& grid,
+// Whether the thin parts of a grid whose occupied cells hold a median of `median` points are
+// meshed at half the cell (BuildOptions::refine_thin); when automatic and not, r.thin_unrefined
+// says why.
+bool refines_thin_parts(const std::vector<std::string>& inputs, const BuildOptions& o, std::uint64_t median,
                         RunReport& r);
 
 // The thin parts' second read, planned from the grid before its extraction releases the cells:
@@ -171,14 +186,27 @@ std::optional<Refinement> refine_thin_parts(const std::vector<std::string>& inpu
                                             const std::vector<std::string>& left_out, const BuildOptions& o,
                                             const CellGrid& grid, BuildObserver& watch, RunReport& r);
 
+// A grid held by a plan's tiles, never whole (merge_tiles): its finest sheet is meshed tile by
+// tile (finest_sheet_in_tiles), its coarser levels come from the tiles' cells coarsened.
+struct GridInTiles {
+    std::vector<std::array<std::int64_t, 4>> windows; // tile_windows of the tileset's finest tiles
+    TilePart part_of;                                 // a window and a halo of 8 cells, from the tiles' files
+    double iso = 0;                                   // the grid's: asked for, or from the tiles' counts
+    SheetSurvey survey;                               // survey_tiles'
+    std::optional<Refinement> refined;                // the thin parts, read already
+    CellGrid coarser;                                 // the grid coarsened once (coarsen_grid), from the tiles
+};
+
 // Extracts the mesh of `grid` (the accumulation's, or a copy of it) and writes every output;
 // `r` holds the read's fields, `seconds_before` the time the read took. The thin parts come
 // read already (`refined`), or are read while the grid is extracted (`thin_read`, from the
 // inputs but those `a` left out; first, under a memory limit or with one thread), or not at all.
+// With `in_tiles`, `grid` is the grid's frame only (its spec, axes and bricks, not its cells): a
+// tileset's sheet meshed from the tiles, as the whole grid's, ordered by its tiles, is.
 BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const std::vector<std::string>& inputs,
                       const BuildOptions& o, const std::vector<MeshFormat>& formats, BuildObserver& watch,
                       double seconds_before, const Refinement* refined = nullptr,
-                      const ThinReadPlan* thin_read = nullptr);
+                      const ThinReadPlan* thin_read = nullptr, GridInTiles* in_tiles = nullptr);
 
 // A window of the plan's grid (x from window[0] to window[1], y from window[2] to window[3], in
 // its cells) and `halo` cells round it, read from the files of the tiles that hold them: the

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// merge_tiles: the tiles' cell sums added into the plan's grid (the tiles partition its cells,
-// so each cell comes from one tile, whole), every input's points accounted for, then the grid
-// meshed as build_mesh meshes the grid it accumulates itself: the same outputs, byte for byte.
+// merge_tiles: every tile's file checked and every input's points accounted for, then the plan's
+// grid meshed as build_mesh meshes the grid it accumulates itself: the same outputs, byte for
+// byte. The tiles' cells are added into the grid (the tiles partition its cells) and it is meshed
+// whole; or, asked to (mesh_in_tiles), a tileset's sheet is meshed tile by tile from the tiles'
+// files (GridInTiles) and the coarser levels come from the tiles' cells coarsened, so the grid's
+// cells are never held together.
 #include "lasmesh/build_mesh.hpp"
 
 #include "build_steps.hpp"
@@ -19,6 +22,30 @@
 namespace lasmesh {
 
 namespace {
+
+// The cells' counts of points, tallied tile by tile: their median as CellGrid::median_count
+// finds it, without the cells held together.
+struct CountTally {
+    std::vector<std::uint64_t> small = std::vector<std::uint64_t>(1024); // cells of each count below 1024
+    std::map<std::uint64_t, std::uint64_t> large;                        // cells of each count above
+    std::uint64_t cells = 0, fullest = 0;
+    void add(std::uint64_t count) {
+        if (count < small.size())
+            ++small[count];
+        else
+            ++large[count];
+        ++cells, fullest = std::max(fullest, count);
+    }
+    // The count at place cells / 2 in ascending order (0 for no cells).
+    std::uint64_t median() const {
+        std::uint64_t seen = 0;
+        for (std::uint64_t n = 0; n < small.size(); ++n)
+            if ((seen += small[n]) > cells / 2) return n;
+        for (const auto& [n, how_many] : large)
+            if ((seen += how_many) > cells / 2) return n;
+        return 0;
+    }
+};
 
 // Tile numbers as a Slurm array spells them: 2,5,9-12.
 std::string index_list(const std::vector<std::size_t>& indices) {
@@ -46,6 +73,12 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     o.tile_size = plan.tile_size; // a tileset's finest tiles are the plan's
     if (o.refine_thin == ThinRefinement::always) check_read_options(paths, o); // the inputs are read again
     const std::vector<MeshFormat> formats = check_mesh_options(paths, o);
+    if (o.mesh_in_tiles && (o.surface != SurfaceKind::sheet ||
+                            std::find(formats.begin(), formats.end(), MeshFormat::tileset) == formats.end()))
+        throw Error(ErrorKind::usage,
+                    "meshing in tiles makes a tileset's sheet: give a tileset output (-o DIR/tileset.json) and "
+                    "leave the surface a sheet",
+                    "in_tiles");
     std::optional<tbb::global_control> thread_limit;
     if (o.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
@@ -54,6 +87,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     // into the grid, so the merge holds the grid and one tile's cells, not all tiles' twice.
     watch.stage_started(BuildStage::read_accumulate, "reading " + std::to_string(plan.tiles.size()) + " tiles");
     std::vector<TileCells> tiles(plan.tiles.size());
+    CountTally counts;
     std::vector<std::size_t> bad;
     std::string reasons;
     for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
@@ -71,6 +105,7 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             if (bad.size() <= 5) reasons += "\n  " + problem;
             tiles[k] = TileCells{};
         }
+        for (const CellSums& cell : tiles[k].cells) counts.add(cell.count);
         std::vector<CellSums>().swap(tiles[k].cells);
     }
     if (!bad.empty()) // the suggestion: the tiles to run again, as an array job's indices
@@ -118,7 +153,22 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
         grid.brick_first.push_back(cell_count);
         cell_count += static_cast<std::uint64_t>(std::popcount(tiles[k].brick_masks[b]));
     }
-    grid.cells.resize(cell_count);
+    // Meshed from the tiles unless one run would coarsen the grid after counting its cells
+    // (fit_grid_to_points, finish_chosen_grid): those coarsen it whole.
+    r.input = paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
+    std::optional<GridChoice> choice;
+    if (plan.grid_request.kind == GridRequest::Kind::automatic)
+        choice = choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), r.input);
+    const std::uint64_t median = counts.median();
+    const bool coarsened =
+        std::max({grid.spec.dims[0], grid.spec.dims[1], grid.spec.dims[2]}) > auto_grid_min_cells &&
+        ((choice && median > 0 && median < choice->min_median) || (!(o.iso && *o.iso < 1) && median == 1));
+    const bool in_tiles = o.mesh_in_tiles && !coarsened;
+    if (o.mesh_in_tiles && coarsened)
+        r.warnings.push_back("note: the grid is coarsened after counting its cells (too fine for its points): "
+                             "meshed whole, not in tiles");
+    std::vector<CellGrid> coarse_parts; // in tiles: each tile's cells coarsened
+    if (!in_tiles) grid.cells.resize(cell_count);
     std::uint64_t in_cells = 0;
     const auto same_counts = [](const TileInputCount& a, const TileInputCount& b) {
         return a.input == b.input && a.records == b.records && a.outside == b.outside;
@@ -130,11 +180,19 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
             !std::equal(again.inputs.begin(), again.inputs.end(), tiles[k].inputs.begin(), tiles[k].inputs.end(),
                         same_counts))
             throw_input_error(tile_path(plan, k), "changed while the merge read it: run the merge again");
+        CellGrid part = empty_like(grid);
         for (std::size_t b = 0; b < again.brick_keys.size(); ++b) {
             const auto n = static_cast<std::uint64_t>(std::popcount(again.brick_masks[b]));
             const CellSums* from = again.cells.data() + again.brick_first[b];
-            std::copy_n(from, n, grid.cells.data() + grid.brick_first[placed[k][b]]);
+            if (in_tiles)
+                append_brick(part, again.brick_keys[b], again.brick_masks[b], from);
+            else
+                std::copy_n(from, n, grid.cells.data() + grid.brick_first[placed[k][b]]);
             for (std::uint64_t c = 0; c < n; ++c) in_cells += from[c].count;
+        }
+        if (in_tiles) {
+            part.index_bricks();
+            coarse_parts.push_back(coarsen_grid(part));
         }
     }
     grid.index_bricks();
@@ -176,22 +234,42 @@ BuildResult merge_tiles(const TilePlan& plan, const BuildOptions& options, Build
     std::vector<std::string> reader_warnings;
     for (auto& [input, texts] : warnings) reader_warnings.insert(reader_warnings.end(), texts.begin(), texts.end());
 
-    r.input = paths.size() == 1 ? opened.single->stream().name() : std::to_string(paths.size()) + " files";
-    if (plan.grid_request.kind == GridRequest::Kind::automatic) // as accumulate_cells chooses it
-        finish_chosen_grid(
-            grid, choose_grid(header.point_count, plan.bounds.value_or(Bounds{header.min, header.max}), r.input));
-    fit_grid_to_points(grid, o, reader_warnings);
     r.device = tiles.front().device;
     Accumulation a;
     a.memory_in_use = resident_bytes();
     const double seconds = seconds_since(start);
-    report_grid(grid, survey, reader_warnings, true, o, seconds, watch, a, r);
-    // Thin parts need the whole grid to be found, so the merge reads the points near them itself,
-    // from every input, as one machine reads them a second time.
-    std::optional<ThinReadPlan> thin_read;
-    if (refines_thin_parts(paths, o, grid, r)) thin_read = plan_thin_read(o, grid, r);
-    return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start), nullptr,
-                     thin_read ? &*thin_read : nullptr);
+    // Thin parts are found over the whole grid (a tile's with a halo), so the merge reads the
+    // points near them itself, from every input, as one machine reads them a second time.
+    if (!in_tiles) {
+        if (choice) finish_chosen_grid(grid, *choice); // as accumulate_cells chooses it
+        fit_grid_to_points(grid, o, reader_warnings);
+        report_grid(grid, cell_facts(grid), survey, reader_warnings, true, o, seconds, watch, a, r);
+        std::optional<ThinReadPlan> thin_read;
+        if (refines_thin_parts(paths, o, grid.median_count(), r)) thin_read = plan_thin_read(o, grid, r);
+        return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start), nullptr,
+                         thin_read ? &*thin_read : nullptr);
+    }
+    if (choice) grid.grid_reason = "auto: " + choice->reason; // finish_chosen_grid, coarsening nothing
+    const CellFacts facts{counts.cells, counts.fullest, median, grid.host_bytes() + counts.cells * sizeof(CellSums)};
+    report_grid(grid, facts, survey, reader_warnings, true, o, seconds, watch, a, r);
+    const CellGrid frame = empty_like(grid); // the parts' geometry, past the move of `grid`
+    GridInTiles tiled;
+    tiled.iso = o.iso ? *o.iso : automatic_iso(median);
+    tiled.windows = tile_windows(grid.spec, finest_tile_cells(grid.spec, o.tile_size));
+    tiled.part_of = [&](const std::array<std::int64_t, 4>& w) { return planned_part(plan, w, 8, frame); };
+    watch.stage_started(BuildStage::extract, "surveying " + std::to_string(tiled.windows.size()) + " tiles");
+    const bool thin = refines_thin_parts(paths, o, median, r);
+    TiledSurvey first = survey_tiles(grid.spec, tiled.windows, tiled.part_of, tiled.iso, thin);
+    tiled.survey = std::move(first.survey);
+    if (thin)
+        if (const std::optional<ThinReadPlan> thin_read = plan_thin_read(first.thin, grid.spec, grid.axes, r)) {
+            tiled.refined = read_thin_parts(*thin_read, paths, {}, o, watch, r);
+            r.read_accumulate += r.thin_read;
+        }
+    tiled.coarser = sum_of_parts(std::move(coarse_parts));
+    tiled.coarser.points_read = grid.points_read, tiled.coarser.points_outside = grid.points_outside;
+    return mesh_grid(std::move(grid), a, std::move(r), paths, o, formats, watch, seconds_since(start), nullptr, nullptr,
+                     &tiled);
 }
 
 } // namespace lasmesh

@@ -22,13 +22,14 @@ CellGrid planned_part(const TilePlan& plan, const std::array<std::int64_t, 4>& w
     for (std::size_t k = 0; k < plan.tiles.size(); ++k) {
         const PlannedTile& t = plan.tiles[k];
         if (t.x_cells[1] <= x0 || t.x_cells[0] >= x1 || t.y_cells[1] <= y0 || t.y_cells[0] >= y1) continue;
-        tiles.push_back(read_tile_cells(tile_path(plan, k)));
+        // Only the bricks of the part: of a neighbour's file, the few along the shared border.
+        tiles.push_back(read_tile_bricks(
+            tile_path(plan, k), [&](std::uint64_t key) { return brick_within(key, frame.bricks, x0, x1, y0, y1); }));
         if (tiles.back().plan_hash != plan.hash || tiles.back().index != k)
             throw_input_error(tile_path(plan, k), "from another plan, or another tile: run the tile again");
         const TileCells& cells = tiles.back();
         for (std::size_t i = 0; i < cells.brick_keys.size(); ++i)
-            if (brick_within(cells.brick_keys[i], frame.bricks, x0, x1, y0, y1))
-                bricks.emplace_back(cells.brick_keys[i], tiles.size() - 1, i);
+            bricks.emplace_back(cells.brick_keys[i], tiles.size() - 1, i);
     }
     std::sort(bricks.begin(), bricks.end());
     for (const auto& [key, t, i] : bricks)

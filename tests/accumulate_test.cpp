@@ -594,6 +594,50 @@ TEST_CASE("--grid auto's coarsening: merged cells hold exactly what accumulating
     CHECK(total == odd.points_read - odd.points_outside);
 }
 
+// The cells of `g` with x in [x0, x1), as a part of it (its frame, its bricks cut to those cells).
+CellGrid cells_in_x(const CellGrid& g, std::int64_t x0, std::int64_t x1) {
+    CellGrid part = empty_like(g);
+    for (std::size_t b = 0; b < g.brick_keys.size(); ++b) {
+        std::uint64_t mask = 0;
+        std::vector<CellSums> kept;
+        std::uint64_t record = g.brick_first[b];
+        for (std::uint64_t m = g.brick_masks[b]; m != 0; m &= m - 1, ++record) {
+            const auto bit = static_cast<unsigned>(std::countr_zero(m));
+            const std::int64_t x = g.cell_in_brick(g.brick_keys[b], bit)[0];
+            if (x < x0 || x >= x1) continue;
+            mask |= std::uint64_t{1} << bit;
+            kept.push_back(g.cells[record]);
+        }
+        if (mask != 0) append_brick(part, g.brick_keys[b], mask, kept.data());
+    }
+    part.index_bricks();
+    return part;
+}
+
+TEST_CASE("a grid coarsened part by part and the parts summed: the grid coarsened whole") {
+    // Parts cut at x = 4 and 24 (as tiles of whole bricks are) and at x = 13 and 31 (odd: a
+    // coarse cell then takes its fine cells from two parts, whose sums must be added).
+    test::TempDir dir;
+    write_scene(dir.file("t.las"), lasgen::SceneKind::torus, 30000, 9);
+    const CellGrid fine = accumulate_file(dir.file("t.las"), exact_grid({-5.1, -5.1, -2.3}, 0.2, {52, 52, 24}));
+    const CellGrid whole = coarsen_grid(fine);
+    for (const std::array<std::int64_t, 2> cuts : {std::array<std::int64_t, 2>{4, 24}, {13, 31}}) {
+        CAPTURE(cuts[0]);
+        std::vector<CellGrid> parts;
+        std::uint64_t cells = 0;
+        for (const auto& [x0, x1] :
+             {std::pair<std::int64_t, std::int64_t>{0, cuts[0]}, {cuts[0], cuts[1]}, {cuts[1], 52}}) {
+            parts.push_back(coarsen_grid(cells_in_x(fine, x0, x1)));
+            cells += parts.back().cells.size();
+        }
+        if (cuts[0] == 13) CHECK(cells > whole.cells.size() + 20); // coarse cells held by two parts
+        const CellGrid summed = sum_of_parts(std::move(parts));
+        CHECK(summed.spec.dims == whole.spec.dims);
+        CHECK(summed.brick_masks == whole.brick_masks);
+        CHECK(sums_equal(summed, whole));
+    }
+}
+
 TEST_CASE("points on the header's bounds are inside the grid, even where the scale rounds them past it") {
     test::TempDir dir;
     // 487881702 x 0.01 is 4878817.0200000005 in doubles: past a header maximum of 4878817.02.

@@ -180,7 +180,7 @@ TEST_CASE("refine_thin by default: with the automatic grid, from files, when its
     for (std::size_t k = 0; k < grid.cells.size(); ++k) grid.cells[k].count = k < 50 ? 11 : 12; // median 12
     const auto decide = [&](const std::string& input, const BuildOptions& o) {
         RunReport r;
-        const bool refined = refines_thin_parts({f.input, input}, o, grid, r);
+        const bool refined = refines_thin_parts({f.input, input}, o, grid.median_count(), r);
         return std::pair{refined, r.thin_unrefined};
     };
     const BuildOptions defaults;

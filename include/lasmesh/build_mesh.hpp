@@ -100,6 +100,12 @@ struct BuildOptions {
     // A tileset's finest tiles: their edge in x and y, in the CRS's unit, rounded up to whole
     // bricks (4 cells) of the grid; 0: 64 cells. A plan's tiles are a tileset's tiles of its size.
     double tile_size = 0;
+    // merge_tiles only: a tileset's sheet meshed tile by tile from the tiles' files (each tile's
+    // cells and its neighbours' along its edges), never holding the plan's grid whole; the coarser
+    // levels from the tiles' cells coarsened. The same bytes as holding it; on one machine slower
+    // (docs/benchmarks.md). Needs a tileset output and the sheet; a grid coarsened after counting
+    // its cells (too fine for its points) is meshed whole all the same, said in a note.
+    bool mesh_in_tiles = false;
     std::string report;     // also write the RunReport as JSON here (run_report_json); empty: none
     bool keep_mesh = false; // return the mesh in BuildResult (it can be large)
 };

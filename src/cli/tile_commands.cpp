@@ -76,6 +76,9 @@ CLI::App* add_merge_command(CLI::App& app, MergeOptions& o) {
     add_thin_parts_options(*merge, o.mesh,
                            "as the main job does: the merge reads every input again for the points near them (the "
                            "tiles hold the grid's cells only)");
+    merge->add_flag("--in-tiles", o.in_tiles,
+                    "Mesh a tileset's sheet tile by tile from the tiles' files, never holding the plan's grid "
+                    "whole: the same outputs, slower on one machine");
     return merge;
 }
 
@@ -164,9 +167,11 @@ void run_tile(const TileOptions& o, std::ostream& log) {
 
 void run_merge(const MergeOptions& o, std::ostream& summary) {
     const TilePlan plan = read_plan(o.plan);
+    BuildOptions options = build_options(o.mesh);
+    options.mesh_in_tiles = o.in_tiles;
     try {
         run_with_summary(
-            o.mesh, build_options(o.mesh),
+            o.mesh, options,
             [&](const BuildOptions& options, BuildObserver& observer) { return merge_tiles(plan, options, &observer); },
             summary);
     } catch (const Error& e) {

@@ -32,6 +32,7 @@ struct TileOptions {
 struct MergeOptions {
     std::string plan;
     MeshOptions mesh; // the outputs and meshing options
+    bool in_tiles = false;
 };
 
 CLI::App* add_plan_command(CLI::App& app, PlanOptions& options);

@@ -69,4 +69,10 @@ int coarsen_while_single_points(CellGrid& grid);
 // the grid accumulating at that cell size gives.
 CellGrid coarsen_grid(const CellGrid& fine);
 
+// The grid whose parts `parts` are (each with the grid's frame, its bricks in ascending key
+// order), the cells two parts both hold summed: a merge coarsens its tiles one at a time
+// (coarsen_grid of each) and sums them into the coarse grid coarsen_grid makes of the whole
+// (its sums are integers, exact in any order). Points read and outside are left at 0.
+CellGrid sum_of_parts(std::vector<CellGrid>&& parts);
+
 } // namespace lasmesh

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <string>
+#include <tuple>
 
 namespace lasmesh {
 
@@ -82,6 +83,37 @@ CellGrid coarsen_grid(const CellGrid& fine) {
     }
     coarse.index_bricks();
     return coarse;
+}
+
+CellGrid sum_of_parts(std::vector<CellGrid>&& parts) {
+    if (parts.empty()) return {};
+    CellGrid whole = empty_like(parts.front());
+    std::vector<std::tuple<std::uint64_t, std::size_t, std::size_t>> bricks; // key, part, brick
+    for (std::size_t p = 0; p < parts.size(); ++p)
+        for (std::size_t b = 0; b < parts[p].brick_keys.size(); ++b) bricks.emplace_back(parts[p].brick_keys[b], p, b);
+    std::sort(bricks.begin(), bricks.end());
+    std::array<CellSums, CellGrid::brick_cells> sums{};
+    for (std::size_t i = 0; i < bricks.size();) {
+        const std::uint64_t key = std::get<0>(bricks[i]);
+        sums.fill(CellSums{});
+        for (; i < bricks.size() && std::get<0>(bricks[i]) == key; ++i) {
+            const CellGrid& part = parts[std::get<1>(bricks[i])];
+            const std::size_t b = std::get<2>(bricks[i]);
+            std::uint64_t record = part.brick_first[b];
+            for (std::uint64_t mask = part.brick_masks[b]; mask != 0; mask &= mask - 1, ++record) {
+                const CellSums& from = part.cells[record];
+                CellSums& to = sums[static_cast<std::size_t>(std::countr_zero(mask))];
+                to.count += from.count;
+                for (int a = 0; a < 3; ++a) to.position[a] += from.position[a], to.color[a] += from.color[a];
+                for (std::size_t k = 0; k < 6; ++k) to.moments[k] += from.moments[k];
+            }
+        }
+        whole.brick_keys.push_back(key);
+        whole.brick_first.push_back(whole.cells.size());
+        whole.brick_masks.push_back(whole.append_occupied(sums));
+    }
+    whole.index_bricks();
+    return whole;
 }
 
 std::string coarsen_while_sparse(CellGrid& grid, std::uint64_t min_median) {

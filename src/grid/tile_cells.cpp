@@ -102,6 +102,59 @@ class WordReader {
     std::uint64_t hash_ = fnv_start;
 };
 
+// Words read from a file as they are needed (a part of a tile's file), not hashed; every
+// shortfall an Error naming the file.
+class PartReader {
+  public:
+    explicit PartReader(const std::string& path) : in_(path, std::ios::binary | std::ios::ate), path_(path) {
+        if (!in_) throw_input_error(path, "missing: this tile has not been written (or cannot be opened)");
+        size_ = static_cast<std::uint64_t>(in_.tellg());
+        in_.seekg(0);
+    }
+    std::vector<std::byte> bytes(std::uint64_t size, const std::string& what) {
+        if (size_ - at_ < size) fail("cut short at byte " + std::to_string(at_) + ": " + what + " expected");
+        std::vector<std::byte> read(size);
+        in_.read(reinterpret_cast<char*>(read.data()), static_cast<std::streamsize>(size));
+        if (!in_) fail("cannot be read");
+        at_ += size;
+        return read;
+    }
+    std::uint64_t word() { return load_le<std::uint64_t>(bytes(8, "a number").data()); }
+    void skip_text() { skip(word(), "text"); }
+    // A count of items of `item_bytes` each, checked against the bytes left.
+    std::uint64_t count(std::uint64_t item_bytes, const std::string& what) {
+        const std::uint64_t n = word();
+        if (n > (size_ - at_) / item_bytes)
+            fail("at byte " + std::to_string(at_ - 8) + ": " + std::to_string(n) + " " + what +
+                 " promised, more than the file holds (cut short or damaged)");
+        return n;
+    }
+    void skip(std::uint64_t size, const std::string& what) {
+        if (size_ - at_ < size) fail("cut short at byte " + std::to_string(at_) + ": " + what + " expected");
+        at_ += size;
+        in_.seekg(static_cast<std::streamoff>(at_));
+    }
+    std::uint64_t at() const { return at_; }
+    [[noreturn]] void fail(const std::string& what) const { throw_input_error(path_, what); }
+
+  private:
+    std::ifstream in_;
+    std::string path_;
+    std::uint64_t size_ = 0, at_ = 0;
+};
+
+void read_cell(const std::byte* at, CellSums& cell) {
+    const auto next = [&] {
+        const std::uint64_t value = load_le<std::uint64_t>(at);
+        at += 8;
+        return value;
+    };
+    cell.count = next();
+    for (std::uint64_t& p : cell.position) p = next();
+    for (std::uint64_t& c : cell.color) c = next();
+    for (std::uint64_t& m : cell.moments) m = next();
+}
+
 } // namespace
 
 std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path, const CellGrid* grid) {
@@ -200,6 +253,52 @@ TileCells read_tile_cells(const std::string& path) {
     if (next != tile.cells.size())
         read.fail("damaged: its bricks hold " + std::to_string(next) + " cells, its list " +
                   std::to_string(tile.cells.size()));
+    return tile;
+}
+
+TileCells read_tile_bricks(const std::string& path, const std::function<bool(std::uint64_t key)>& wanted) {
+    PartReader read(path);
+    if (read.bytes(8, "the magic") != std::vector<std::byte>(reinterpret_cast<const std::byte*>(magic),
+                                                             reinterpret_cast<const std::byte*>(magic) + 8))
+        read.fail("not a lasmesh tile's cell sums (bytes 0-7 are not \"LMTILE02\")");
+    TileCells tile;
+    tile.plan_hash = read.word();
+    tile.index = read.word();
+    tile.color = read.word() == 1;
+    tile.color_max_word = static_cast<std::uint32_t>(read.word());
+    read.skip_text(); // the device
+    read.skip(24 * read.count(24, "inputs"), "inputs");
+    for (std::uint64_t w = read.count(16, "warnings"); w > 0; --w) (void)read.word(), read.skip_text();
+    const std::uint64_t bricks = read.count(24, "bricks");
+    const std::vector<std::byte> table = read.bytes(24 * bricks, "bricks");
+    const std::uint64_t cells = read.count(104, "cells"), cells_at = read.at();
+    // The wanted bricks' cells, each run of them one read.
+    std::uint64_t next = 0;
+    for (std::size_t b = 0; b < bricks;) {
+        const std::byte* entry = table.data() + 24 * b;
+        const std::uint64_t key = load_le<std::uint64_t>(entry), mask = load_le<std::uint64_t>(entry + 8);
+        if (!wanted(key)) {
+            next += static_cast<std::uint64_t>(std::popcount(mask)), ++b;
+            continue;
+        }
+        const std::uint64_t run_first = next;
+        for (; b < bricks; ++b) {
+            const std::byte* e = table.data() + 24 * b;
+            const std::uint64_t k = load_le<std::uint64_t>(e), m = load_le<std::uint64_t>(e + 8);
+            if (!wanted(k)) break;
+            const auto n = static_cast<std::uint64_t>(std::popcount(m));
+            if ((!tile.brick_keys.empty() && k <= tile.brick_keys.back()) || n == 0 ||
+                load_le<std::uint64_t>(e + 16) != next || next + n > cells)
+                read.fail("damaged: brick " + std::to_string(b) + "'s cells do not follow");
+            tile.brick_keys.push_back(k), tile.brick_masks.push_back(m), tile.brick_first.push_back(tile.cells.size());
+            tile.cells.resize(tile.cells.size() + n);
+            next += n;
+        }
+        read.skip(cells_at + 104 * run_first - read.at(), "cells");
+        const std::vector<std::byte> run = read.bytes(104 * (next - run_first), "cells");
+        CellSums* to = tile.cells.data() + tile.cells.size() - (next - run_first);
+        for (std::uint64_t c = 0; c < next - run_first; ++c) read_cell(run.data() + 104 * c, to[c]);
+    }
     return tile;
 }
 

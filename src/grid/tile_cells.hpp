@@ -15,6 +15,7 @@
 #include "grid/cell_sums.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,5 +52,11 @@ std::uint64_t write_tile_cells(const TileCells& tile, const std::string& path, c
 // Reads a tile's file; throws Error (input) saying what is wrong: missing, not a tile's file,
 // cut short, damaged (the hash), or holding impossible numbers.
 TileCells read_tile_cells(const std::string& path);
+
+// Reads of a tile's file only its head and the bricks `wanted` picks by key (with their cells):
+// a merge's reads of a window and its halo, after read_tile_cells checked the file whole. The
+// hash is not checked (it covers every byte); what is read must hold together. Throws Error
+// (input) as read_tile_cells does.
+TileCells read_tile_bricks(const std::string& path, const std::function<bool(std::uint64_t key)>& wanted);
 
 } // namespace lasmesh

@@ -82,7 +82,11 @@ struct DensityField {
 } // namespace
 
 double automatic_iso(const CellGrid& grid) {
-    return std::max(1.0, std::floor(0.1 * static_cast<double>(grid.median_count())));
+    return automatic_iso(grid.median_count());
+}
+
+double automatic_iso(std::uint64_t median_count) {
+    return std::max(1.0, std::floor(0.1 * static_cast<double>(median_count)));
 }
 
 Mesh extract_closed_surface(const CellGrid& grid, double iso, VertexPlacement placement) {

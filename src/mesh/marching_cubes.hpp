@@ -15,6 +15,8 @@ namespace lasmesh {
 // 1. Cells along a surface hold roughly density x cell area points, so this follows the scan's
 // density: sparse parts still close while stray single points stay outside.
 double automatic_iso(const CellGrid& grid);
+// The same from the median, counted already (a merge counts it from its tiles).
+double automatic_iso(std::uint64_t median_count);
 
 // The surface between cells with count > iso (inside) and the others. The samples are the cell
 // centres; the grid is padded with one layer of empty cells, so every surface closes. One

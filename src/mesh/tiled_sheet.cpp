@@ -3,7 +3,6 @@
 
 #include "grid/thin_parts.hpp"
 #include "mesh/mesh_edit.hpp"
-#include "mesh/place_bits.hpp"
 #include "mesh/tile_facing.hpp"
 
 #include <algorithm>
@@ -16,25 +15,44 @@ namespace lasmesh {
 
 namespace {
 
-// Appends m's triangles to `joined` in their order, each vertex the first of its place (`at`,
-// bit for bit) in `joined`, new vertices numbered as the triangles first use them.
-void append_by_place(Mesh& joined, const Mesh& m, PlaceMap<std::uint32_t>& at) {
-    std::vector<std::uint32_t> index(m.positions.size(), ~std::uint32_t{0});
-    for (auto t : m.triangles) {
-        for (std::uint32_t& v : t) {
-            if (index[v] == ~std::uint32_t{0}) {
-                const auto [it, fresh] = at.try_emplace(m.positions[v], std::uint32_t(joined.positions.size()));
-                if (fresh) {
-                    joined.positions.push_back(m.positions[v]);
-                    if (!m.colors.empty()) joined.colors.push_back(m.colors[v]);
-                    if (!m.normals.empty()) joined.normals.push_back(m.normals[v]);
-                }
-                index[v] = it->second;
-            }
-            v = index[v];
+// `mesh` with its vertices of one place (bit for bit) made one, numbered as its triangles first
+// use them: tiles meshed apart give the vertices they share the same bits. The places numbered
+// by sorting the vertices by their bits, not in a hash map: a sixth of the memory a vertex.
+Mesh joined_by_place(Mesh&& mesh) {
+    const std::size_t vertices = mesh.positions.size();
+    std::vector<std::uint32_t> place(vertices);
+    {
+        const auto bits = [&](std::uint32_t v) {
+            const auto& p = mesh.positions[v];
+            return std::make_tuple(std::bit_cast<std::uint32_t>(p[0]), std::bit_cast<std::uint32_t>(p[1]),
+                                   std::bit_cast<std::uint32_t>(p[2]));
+        };
+        std::vector<std::uint32_t> by_place(vertices);
+        for (std::uint32_t v = 0; v < vertices; ++v) by_place[v] = v;
+        std::sort(by_place.begin(), by_place.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return std::make_pair(bits(a), a) < std::make_pair(bits(b), b);
+        });
+        for (std::size_t i = 0, n = 0; i < vertices; ++i) {
+            n += i > 0 && bits(by_place[i]) != bits(by_place[i - 1]);
+            place[by_place[i]] = static_cast<std::uint32_t>(n);
         }
-        joined.triangles.push_back(t);
     }
+    Mesh joined;
+    joined.origin = mesh.origin, joined.cell_size = mesh.cell_size, joined.crs = mesh.crs;
+    joined.triangles = std::move(mesh.triangles);
+    std::vector<std::uint32_t> index(vertices, ~std::uint32_t{0}); // per place: its vertex in `joined`
+    for (std::array<std::uint32_t, 3>& t : joined.triangles)
+        for (std::uint32_t& v : t) {
+            std::uint32_t& at = index[place[v]];
+            if (at == ~std::uint32_t{0}) {
+                at = static_cast<std::uint32_t>(joined.positions.size());
+                joined.positions.push_back(mesh.positions[v]);
+                if (!mesh.colors.empty()) joined.colors.push_back(mesh.colors[v]);
+                if (!mesh.normals.empty()) joined.normals.push_back(mesh.normals[v]);
+            }
+            v = at;
+        }
+    return joined;
 }
 
 } // namespace
@@ -143,12 +161,20 @@ Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int
         parts.push_back(tiles.back().parts);
     }
     const std::vector<std::vector<char>> turns = outside_turns(parts);
-    Mesh joined;
-    joined.origin = grid.origin, joined.cell_size = grid.cell_size;
-    PlaceMap<std::uint32_t> at;
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-        append_by_place(joined, finish_tile_sheet(std::move(tiles[k]), turns[k], windows[k]), at);
-    return joined;
+    // The tiles' meshes one after the other, then joined where they meet.
+    Mesh all;
+    all.origin = grid.origin, all.cell_size = grid.cell_size;
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+        Mesh m = finish_tile_sheet(std::move(tiles[k]), turns[k], windows[k]);
+        if (m.triangles.empty()) continue; // a tile without cells has no colours either
+        remove_unused_vertices(m);
+        if (all.triangles.empty())
+            all.positions = std::move(m.positions), all.colors = std::move(m.colors),
+            all.normals = std::move(m.normals), all.triangles = std::move(m.triangles);
+        else
+            append_mesh(all, m);
+    }
+    return joined_by_place(std::move(all));
 }
 
 Mesh in_tile_order(Mesh&& sheet, const GridSpec& grid, std::int64_t tile_cells) {
@@ -170,46 +196,10 @@ Mesh in_tile_order(Mesh&& sheet, const GridSpec& grid, std::int64_t tile_cells) 
         order[i] = (tile_of(c[1], along) * std::uint64_t(across) + tile_of(c[0], across)) << 32 | i;
     }
     std::sort(order.begin(), order.end());
-    // The vertices of one place, bit for bit, are one (as sheets_of_tiles joins them): each
-    // vertex's place numbered by sorting the vertices by their bits. Sorting, not a hash map:
-    // a sixth of the memory a vertex.
-    const std::size_t vertices = sheet.positions.size();
-    std::vector<std::uint32_t> place(vertices);
-    {
-        const auto bits = [&](std::uint32_t v) {
-            const auto& p = sheet.positions[v];
-            return std::make_tuple(std::bit_cast<std::uint32_t>(p[0]), std::bit_cast<std::uint32_t>(p[1]),
-                                   std::bit_cast<std::uint32_t>(p[2]));
-        };
-        std::vector<std::uint32_t> by_place(vertices);
-        for (std::uint32_t v = 0; v < vertices; ++v) by_place[v] = v;
-        std::sort(by_place.begin(), by_place.end(), [&](std::uint32_t a, std::uint32_t b) {
-            return std::make_pair(bits(a), a) < std::make_pair(bits(b), b);
-        });
-        for (std::size_t i = 0, n = 0; i < vertices; ++i) {
-            n += i > 0 && bits(by_place[i]) != bits(by_place[i - 1]);
-            place[by_place[i]] = static_cast<std::uint32_t>(n);
-        }
-    }
-    Mesh joined;
-    joined.origin = sheet.origin, joined.cell_size = sheet.cell_size, joined.crs = sheet.crs;
-    joined.triangles.reserve(order.size());
-    std::vector<std::uint32_t> index(vertices, ~std::uint32_t{0}); // per place: its vertex in `joined`
-    for (const std::uint64_t o : order) {
-        std::array<std::uint32_t, 3> t = sheet.triangles[o & 0xffffffffu];
-        for (std::uint32_t& v : t) {
-            std::uint32_t& at = index[place[v]];
-            if (at == ~std::uint32_t{0}) {
-                at = static_cast<std::uint32_t>(joined.positions.size());
-                joined.positions.push_back(sheet.positions[v]);
-                if (!sheet.colors.empty()) joined.colors.push_back(sheet.colors[v]);
-                if (!sheet.normals.empty()) joined.normals.push_back(sheet.normals[v]);
-            }
-            v = at;
-        }
-        joined.triangles.push_back(t);
-    }
-    return joined;
+    std::vector<std::array<std::uint32_t, 3>> ordered(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) ordered[i] = sheet.triangles[order[i] & 0xffffffffu];
+    sheet.triangles = std::move(ordered);
+    return joined_by_place(std::move(sheet));
 }
 
 Mesh extract_sheet_in_tiles(const CellGrid& grid, double iso, std::int64_t tile_cells, std::int64_t halo) {

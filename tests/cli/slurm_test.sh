@@ -25,7 +25,7 @@ check "a single-node Slurm starts" test "$rc" -eq 0
 source cluster.env
 
 "$lasgen" --scene deck --points 300000 --seed 6 --epsg 32631 --split-xy 3 -o deck.las > /dev/null
-mkdir one many
+mkdir one many again in-tiles
 "$lasmesh" deck-*.las --tile 16 -o one/tileset.json -o one/mesh.ply -q
 "$lasmesh" plan deck-*.las --tile 16 -o site.plan.json > plan.txt
 tiles=$(python3 -c 'import json; print(len(json.load(open("site.plan.json"))["tiles"]))')
@@ -38,6 +38,8 @@ check "each task logged its tile" test "$(cat lasmesh-tile-*_*.out | grep -c '^t
 "$lasmesh" merge site.plan.json -o many/tileset.json -o many/mesh.ply -q; rc=$?
 check "merge: exit 0" test "$rc" -eq 0
 check "Slurm's tileset = one run's, every file byte for byte" diff -r one many
+"$lasmesh" merge site.plan.json --in-tiles -o in-tiles/tileset.json -o in-tiles/mesh.ply -q
+check "and merged --in-tiles (the sheet meshed tile by tile)" diff -r one in-tiles
 
 # One task rerun alone replaces its tile; the result is unchanged.
 rm site.plan-tiles/tile-1.cells
@@ -46,6 +48,6 @@ check "a tile missing: merge names it" has missing.txt "sbatch --array=1 "
 timeout 120 sbatch --wait --array=1 --export=ALL,LASMESH="$lasmesh" "$root/deploy/slurm/lasmesh-tile.sbatch" \
   site.plan.json > /dev/null 2>&1; rc=$?
 check "the one task rerun succeeds" test "$rc" -eq 0
-"$lasmesh" merge site.plan.json -o again.ply -q
-check "and the merge is the same" cmp -s one/mesh.ply again.ply
+"$lasmesh" merge site.plan.json -o again/tileset.json -o again/mesh.ply -q
+check "and the merge is the same" cmp -s one/mesh.ply again/mesh.ply
 finish slurm_array

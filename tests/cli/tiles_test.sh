@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # plan / tile / merge on this machine (tiles run by xargs -P): the merged outputs are byte for byte
 # those of one run over the same inputs (a tileset, a PLY, a GLB), for the automatic grid and a
-# cell edge; a missing, damaged or foreign tile is named by merge, which writes nothing; a rerun
+# cell edge, the grid held whole or (--in-tiles) the sheet meshed tile by tile from the tiles' files; a missing, damaged or foreign tile is named by merge, which writes nothing; a rerun
 # tile replaces its file; a file whose header bounds lie (its points would be lost) stops its tile;
 # an input changed since the plan is refused; the tile index comes from --index or the scheduler;
 # a COPC file's tiles read only the octree nodes that touch them, cropped or not.
@@ -14,8 +14,8 @@ cd "$dir" || exit 1
 
 "$lasgen" --scene deck --points 300000 --seed 5 --epsg 32631 --split-xy 3 -o deck.las > /dev/null
 inputs=(deck-*.las)
-mkdir -p one many
-"$lasmesh" "${inputs[@]}" --tile 12 -o one/tileset.json -o one/mesh.ply -o one/mesh.glb -q
+mkdir -p one many again in-tiles thin-one thin-many ball-one ball-many
+"$lasmesh" "${inputs[@]}" --tile 12 -o one/tileset.json -o one/mesh.ply -o one/mesh.glb > one.txt 2>&1
 "$lasmesh" plan "${inputs[@]}" --tile 12 -o site.plan.json > plan.txt; rc=$?
 check "plan: exit 0" test "$rc" -eq 0
 tiles=$(python3 -c 'import json; print(len(json.load(open("site.plan.json"))["tiles"]))')
@@ -29,9 +29,24 @@ assert all(0 < len(t["inputs"]) < len(p["inputs"]) for t in p["tiles"]), [t["inp
 seq 0 $((tiles - 1)) | xargs -P 2 -I K "$lasmesh" tile site.plan.json --index K -q; rc=$?
 check "tiles: every one exit 0" test "$rc" -eq 0
 check "tiles: one file each" test "$(ls site.plan-tiles | wc -l)" -eq "$tiles"
-"$lasmesh" merge site.plan.json -o many/tileset.json -o many/mesh.ply -o many/mesh.glb > merge.txt 2>&1; rc=$?
+"$lasmesh" merge site.plan.json -o many/tileset.json -o many/mesh.ply -o many/mesh.glb -v > merge.txt 2>&1; rc=$?
 check "merge: exit 0" test "$rc" -eq 0
 check "merge: the summary names the outputs" has merge.txt "many/tileset.json"
+check "merge: the grid held whole by default" bash -c "! grep -q 'the sheet meshed in ' merge.txt"
+# --in-tiles: the sheet meshed tile by tile from the tiles' files, the grid never held whole.
+"$lasmesh" merge site.plan.json --in-tiles -o in-tiles/tileset.json -o in-tiles/mesh.ply -o in-tiles/mesh.glb -v \
+  > in-tiles.txt 2>&1; rc=$?
+check "merge --in-tiles: exit 0" test "$rc" -eq 0
+check "merge --in-tiles: the sheet meshed tile by tile" has in-tiles.txt "the sheet meshed in "
+check "merge --in-tiles: one run's tileset, PLY and GLB, every file" diff -r one in-tiles
+# The cells' counts from the tiles' files, as one run counts them in its grid (their median
+# chooses the iso and says whether thin parts are refined).
+summary() { grep -E '^(grid|iso|occupied|thin parts|pieces|simplify|mesh) ' "$1"; }
+check "merge --in-tiles: the grid, the cells' counts and the mesh in the summary are one run's" \
+  test "$(summary one.txt)" = "$(summary in-tiles.txt)"
+"$lasmesh" merge site.plan.json --in-tiles -o in-tiles.ply > in-tiles-ply.txt 2>&1; rc=$?
+check "merge --in-tiles without a tileset: usage error (1), says why" \
+  bash -c "test $rc -eq 1 && grep -q 'give a tileset output' in-tiles-ply.txt && test ! -e in-tiles.ply"
 check "merged PLY = one run's PLY, byte for byte" cmp -s one/mesh.ply many/mesh.ply
 check "merged GLB = one run's GLB" cmp -s one/mesh.glb many/mesh.glb
 check "merged tileset = one run's tileset, every file" diff -r one many
@@ -63,7 +78,13 @@ check "merge --refine-thin: thin parts found and meshed" contains thin-many.txt 
 thin_line() { grep '^thin parts ' "$1" | sed 's/, read again in .*//'; }
 check "merge --refine-thin: the same thin parts as one run" test "$(thin_line thin-one.txt)" = "$(thin_line thin-many.txt)"
 check "merge --refine-thin: PLY = one run's, byte for byte" cmp -s thin-one.ply thin-many.ply
-check "merge --refine-thin: the thin parts changed the mesh" bash -c "! cmp -s thin-many.ply one/mesh.ply"
+# With a tileset, the sheet meshed tile by tile and the thin parts joined to it.
+"$lasmesh" "${inputs[@]}" --tile 12 -o thin-one/tileset.json -o thin-one/mesh.ply --refine-thin -q
+"$lasmesh" merge site.plan.json --in-tiles -o thin-many/tileset.json -o thin-many/mesh.ply --refine-thin -v \
+  > thin-tiles.txt 2>&1
+check "merge --refine-thin, a tileset: meshed tile by tile" has thin-tiles.txt "the sheet meshed in "
+check "merge --refine-thin, a tileset: one run's, every file" diff -r thin-one thin-many
+check "merge --refine-thin: the thin parts changed the mesh" bash -c "! cmp -s thin-many/mesh.ply one/mesh.ply"
 
 # A cell edge instead of the automatic grid, tiles read one input at a time.
 "$lasmesh" "${inputs[@]}" -o edge-one.ply --voxel 0.2 -q
@@ -75,16 +96,20 @@ done
 check "--voxel 0.2: merged PLY = one run's" cmp -s edge-one.ply edge-many.ply
 
 # A noisy sphere: the automatic grid chosen from the headers is too fine, and one run coarsens it
-# after counting (twice here); merge coarsens the merged grid the same way.
+# after counting (twice here); merge coarsens the merged grid the same way (whole, even when asked
+# to mesh in tiles).
 "$lasgen" --scene sphere --points 200000 --noise 0.3 --epsg 32631 --split-xy 2 -o ball.las > /dev/null
-"$lasmesh" ball-*.las -o ball-one.ply > ball-one.txt 2>&1
+"$lasmesh" ball-*.las --tile 3 -o ball-one/tileset.json -o ball-one.ply > ball-one.txt 2>&1
 check "the noisy sphere's grid is coarsened in one run" has ball-one.txt "times coarser"
 "$lasmesh" plan ball-*.las --tile 3 -o ball.json > /dev/null
 ball_tiles=$(python3 -c 'import json; print(len(json.load(open("ball.json"))["tiles"]))')
 seq 0 $((ball_tiles - 1)) | xargs -P 2 -I K "$lasmesh" tile ball.json --index K -q
-"$lasmesh" merge ball.json -o ball-many.ply > ball-many.txt 2>&1
+"$lasmesh" merge ball.json --in-tiles -o ball-many/tileset.json -o ball-many.ply -v > ball-many.txt 2>&1
 check "merged: coarsened the same way (the summary's grid line)" test "$(grep '^grid ' ball-one.txt)" = "$(grep '^grid ' ball-many.txt)"
 check "merged: the same PLY" cmp -s ball-one.ply ball-many.ply
+check "merged: the same tileset" diff -r ball-one ball-many
+check "merged --in-tiles: the grid coarsened, so meshed whole, with a note" bash -c \
+  "! grep -q 'the sheet meshed in ' ball-many.txt && grep -q 'meshed whole, not in tiles' ball-many.txt"
 
 # Missing, damaged, from another plan: all named at once, nothing written.
 mv site.plan-tiles/tile-1.cells tile-1.saved
@@ -101,8 +126,8 @@ check "and how to rerun them" has bad.txt "sbatch --array=1-3"
 check "nothing written" test ! -e bad.ply
 mv tile-1.saved site.plan-tiles/tile-1.cells
 for k in 2 3; do "$lasmesh" tile site.plan.json --index "$k" -q; done
-"$lasmesh" merge site.plan.json -o again.ply -q
-check "tiles rerun: the same PLY again" cmp -s one/mesh.ply again.ply
+"$lasmesh" merge site.plan.json -o again/tileset.json -o again/mesh.ply -q
+check "tiles rerun: the same PLY again" cmp -s one/mesh.ply again/mesh.ply
 check "a rerun replaces, no other file" test "$(ls -A site.plan-tiles | wc -l)" -eq "$tiles"
 
 # The index from the scheduler's environment, and refused when there is none or it is wrong.
