@@ -12,6 +12,7 @@
 #include "grid/axis_cells.hpp"
 #include "grid/tile_cells.hpp"
 #include "lasmesh/error.hpp"
+#include "mesh/marching_cubes.hpp"
 #include "read/input_stream.hpp"
 
 #include <tbb/global_control.h>
