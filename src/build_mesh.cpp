@@ -737,7 +737,7 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                                       seam ? &*seam : nullptr);
                     // A tileset's finest sheet in its tiles' order: the mesh a merge meshing it tile
                     // by tile makes, so the two write the same bytes.
-                    if (tile_order > 0) m = in_tile_order(std::move(m), spec, tile_order);
+                    if (tile_order > 0 && pieces) m = in_tile_order(std::move(m), spec, tile_order);
                     // A sheet that returned without sampling them must not leave the read waiting.
                     if (seam && !handed)
                         seam_sampled.set_exception(std::make_exception_ptr(

@@ -41,7 +41,7 @@ check "merge --in-tiles: the sheet meshed tile by tile" has in-tiles.txt "the sh
 check "merge --in-tiles: one run's tileset, PLY and GLB, every file" diff -r one in-tiles
 # The cells' counts from the tiles' files, as one run counts them in its grid (their median
 # chooses the iso and says whether thin parts are refined).
-summary() { grep -E '^(grid|iso|occupied|thin parts|pieces|simplify|mesh) ' "$1"; }
+summary() { grep -E '^(grid|iso|occupied|thin parts|pieces|simplify|mesh) ' "$1" | sed -E 's/ in [0-9.]+ s//g'; }
 check "merge --in-tiles: the grid, the cells' counts and the mesh in the summary are one run's" \
   test "$(summary one.txt)" = "$(summary in-tiles.txt)"
 "$lasmesh" merge site.plan.json --in-tiles -o in-tiles.ply > in-tiles-ply.txt 2>&1; rc=$?
