@@ -688,7 +688,12 @@ BuildResult mesh_grid(CellGrid&& grid, const Accumulation& a, RunReport r, const
                 TiledFinest finest = finest_sheet_in_tiles(spec, in_tiles->windows, in_tiles->part_of, iso, r.iso_auto,
                                                            in_tiles->survey, refined);
                 m = std::move(finest.mesh);
+#ifdef __GLIBC__
+                // The tiles' parts, planes and sheets were freed into glibc's arenas, which keep
+                // them: given back now, they do not stay resident beside the simplification (the
+                // 20M deck's merge in 32 tiles peaked at 487 MB without, 381-414 MB with).
                 malloc_trim(0);
+#endif
                 watch.detail("tiles          the sheet meshed in " + std::to_string(in_tiles->windows.size()) +
                              " tiles, each from its tile's file and its neighbours'");
                 if (finest.seam) watch.detail(seam_line(*finest.seam));
