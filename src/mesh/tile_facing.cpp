@@ -8,11 +8,16 @@
 
 namespace lasmesh {
 
-bool centroid_within(const Mesh& m, const std::array<std::uint32_t, 3>& t, const std::array<std::int64_t, 4>& window,
-                     double margin) {
-    double c[2]{};
+std::array<double, 2> centroid_in_cells(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
+    std::array<double, 2> c{};
     for (int k = 0; k < 3; ++k)
         for (int a = 0; a < 2; ++a) c[a] += double(m.positions[t[k]][a]) / (3 * m.cell_size);
+    return c;
+}
+
+bool centroid_within(const Mesh& m, const std::array<std::uint32_t, 3>& t, const std::array<std::int64_t, 4>& window,
+                     double margin) {
+    const std::array<double, 2> c = centroid_in_cells(m, t);
     return c[0] >= double(window[0]) - margin && c[0] < double(window[1]) + margin &&
            c[1] >= double(window[2]) - margin && c[1] < double(window[3]) + margin;
 }

@@ -26,6 +26,10 @@
 
 namespace lasmesh {
 
+// Triangle t's centroid in x and y, in cells of m.cell_size from the grid origin: the one sum
+// that says which tile a triangle belongs to (centroid_within; in_tile_order), the same to the bit.
+std::array<double, 2> centroid_in_cells(const Mesh& m, const std::array<std::uint32_t, 3>& t);
+
 // Whether triangle t's centroid lies in `window` (x from window[0] to window[1], y from window[2]
 // to window[3], in cells of m.cell_size, from the grid origin), or within `margin` cells of it:
 // the tile a triangle belongs to.

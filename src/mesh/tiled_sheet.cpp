@@ -195,10 +195,7 @@ Mesh in_tile_order(Mesh&& sheet, const GridSpec& grid, std::int64_t tile_cells) 
     };
     std::vector<std::uint64_t> order(sheet.triangles.size()); // tile << 32 | triangle: sorted, tile by tile in order
     for (std::size_t i = 0; i < order.size(); ++i) {
-        double c[2]{};
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 2; ++a)
-                c[a] += double(sheet.positions[sheet.triangles[i][k]][a]) / (3 * sheet.cell_size);
+        const std::array<double, 2> c = centroid_in_cells(sheet, sheet.triangles[i]);
         order[i] = (tile_of(c[1], along) * std::uint64_t(across) + tile_of(c[0], across)) << 32 | i;
     }
     std::sort(order.begin(), order.end());
