@@ -61,13 +61,18 @@ struct ChunkReaders {
     std::uint64_t points = 0;         // in the chunk, as planned
     std::uint64_t offset = 0;         // its first byte (a COPC chunk)
     std::vector<std::uint32_t> tiles; // y * columns + x of each tile that reads it, ascending
-    bool owns_outside = false;        // this tile is the first to read it: it counts its points outside the grid
+    // Where those tiles form a rectangle (as they do for a file or a COPC node read by the tiles
+    // its bounds touch), the raw x and y they span, [x0, x1) and [y0, y1): a point there is in
+    // a tile that reads it, told by four comparisons; otherwise empty.
+    std::array<std::int64_t, 4> span{};
+    bool owns_outside = false; // this tile is the first to read it: it counts its points outside the grid
     bool copc = false;
 };
 
 // For tile `index` reading `input`: its chunks in the order it reads them, and who else reads each.
 std::vector<ChunkReaders> chunk_readers(const TilePlan& plan, std::size_t index, std::size_t input,
-                                        std::uint32_t columns) {
+                                        const TileLocator& locate) {
+    const std::uint32_t columns = static_cast<std::uint32_t>(locate.tile_starts[0].size() - 1);
     const auto planned = [&](const PlannedTile& t) -> const PlannedChunks* {
         for (const PlannedChunks& c : t.chunks)
             if (c.input == input) return &c;
@@ -93,7 +98,18 @@ std::vector<ChunkReaders> chunk_readers(const TilePlan& plan, std::size_t index,
             chunks[c].tiles.push_back(t.y * columns + t.x);
         }
     }
-    for (ChunkReaders& c : chunks) std::sort(c.tiles.begin(), c.tiles.end());
+    for (ChunkReaders& c : chunks) {
+        std::sort(c.tiles.begin(), c.tiles.end());
+        std::array<std::uint32_t, 4> in_tiles{UINT32_MAX, 0, UINT32_MAX, 0}; // x0, x1, y0, y1, inclusive
+        for (const std::uint32_t t : c.tiles) {
+            in_tiles[0] = std::min(in_tiles[0], t % columns), in_tiles[1] = std::max(in_tiles[1], t % columns);
+            in_tiles[2] = std::min(in_tiles[2], t / columns), in_tiles[3] = std::max(in_tiles[3], t / columns);
+        }
+        if (!c.tiles.empty() &&
+            c.tiles.size() == std::size_t{in_tiles[1] - in_tiles[0] + 1} * (in_tiles[3] - in_tiles[2] + 1))
+            c.span = {locate.tile_starts[0][in_tiles[0]], locate.tile_starts[0][in_tiles[1] + 1],
+                      locate.tile_starts[1][in_tiles[2]], locate.tile_starts[1][in_tiles[3] + 1]};
+    }
     return chunks;
 }
 
@@ -148,10 +164,11 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     // other (a point no tile would keep).
     const std::int64_t x0 = locate.axes[0].starts[tile.x_cells[0]], x1 = locate.axes[0].starts[tile.x_cells[1]];
     const std::int64_t y0 = locate.axes[1].starts[tile.y_cells[0]], y1 = locate.axes[1].starts[tile.y_cells[1]];
+    const std::int64_t z0 = locate.axes[2].starts.front(), z1 = locate.axes[2].starts.back();
     const auto keep = [&](std::size_t file, std::byte* records, std::size_t count) {
         const std::size_t input = tile.inputs[file];
         if (readers_for != input) {
-            readers = chunk_readers(plan, index, input, columns);
+            readers = chunk_readers(plan, index, input, locate);
             readers_for = input, chunk = 0, left_in_chunk = readers.front().points;
         }
         points_read += count;
@@ -164,13 +181,18 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
             std::byte* at = records + i * length;
             const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
                                                   load_le<std::int32_t>(at + 8)};
-            if (!locate.inside(raw)) {
+            if (raw[2] < z0 || raw[2] >= z1) {
                 if (r.owns_outside) ++c.records, ++c.outside;
                 continue;
             }
             if (raw[0] >= x0 && raw[0] < x1 && raw[1] >= y0 && raw[1] < y1) {
                 if (kept != i) std::memmove(records + kept * length, at, length);
                 ++kept, ++c.records;
+                continue;
+            }
+            if (raw[0] >= r.span[0] && raw[0] < r.span[1] && raw[1] >= r.span[2] && raw[1] < r.span[3]) continue;
+            if (!locate.inside(raw)) {
+                if (r.owns_outside) ++c.records, ++c.outside;
                 continue;
             }
             const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
