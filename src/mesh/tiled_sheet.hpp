@@ -77,9 +77,9 @@ Mesh sheets_of_tiles(const GridSpec& grid, const std::vector<std::array<std::int
 
 // The whole grid's sheet in the order sheets_of_tiles gives it: its triangles tile by tile (by
 // their centroid, as the tiles keep them; within a tile in their order), its vertices numbered
-// by first use (those of one place and one normal made one, as the tiles' are where they meet). The tiles' sheet and
-// the whole grid's are then the same mesh, array for array, so what follows them (simplification, writers) gives the
-// same bytes.
+// by first use (those of one place and one normal made one, as the tiles' are where they meet).
+// The tiles' sheet and the whole grid's are then the same mesh, array for array, so what follows
+// them (simplification, writers) gives the same bytes.
 Mesh in_tile_order(Mesh&& sheet, const GridSpec& grid, std::int64_t tile_cells);
 
 // survey_tiles, then sheets_of_tiles, the parts cut from a grid held whole.
