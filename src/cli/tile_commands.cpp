@@ -10,6 +10,7 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <numeric>
 #include <set>
 
 namespace lasmesh::cli {
@@ -102,6 +103,26 @@ std::string copc_line(const TilePlan& plan) {
            " points in all\n";
 }
 
+// "the tile jobs read the inputs' points 3.2 times in all: ...\n": each tile reads every input
+// its bounds touch whole (LAS and LAZ have no spatial index; a COPC input, its nodes), so an input
+// larger than a tile is read once by each tile it touches, and that reading is what tile jobs add
+// to one machine's CPU (docs/benchmarks.md, "A survey over many machines").
+std::string reading_line(const TilePlan& plan) {
+    std::uint64_t read = 0, points = 0;
+    for (const PlannedInput& input : plan.inputs) points += input.points;
+    for (const PlannedTile& tile : plan.tiles)
+        for (const std::size_t i : tile.inputs) {
+            std::uint64_t in_tile = plan.inputs[i].points;
+            for (const PlannedChunks& c : tile.chunks)
+                if (c.input == i) in_tile = std::accumulate(c.points.begin(), c.points.end(), std::uint64_t{0});
+            read += in_tile;
+        }
+    const double times = points ? double(read) / double(points) : 0.0;
+    return "the tile jobs read the inputs' points " + two_digits(times) + " times in all" +
+           (times >= 2 ? ": a tile reads whole each input (of COPC, each node) it touches; larger tiles read less\n"
+                       : "\n");
+}
+
 } // namespace
 
 void run_plan(const PlanOptions& o, std::ostream& out) {
@@ -120,7 +141,8 @@ void run_plan(const PlanOptions& o, std::ostream& out) {
     out << name << ": " << plan.tiles.size() << " tiles of " << four_digits(plan.tile_size) << " x "
         << four_digits(plan.tile_size) << unit << " (" << plan.tile_cells << " x " << plan.tile_cells << " cells of "
         << four_digits(plan.grid.cell_size) << "), " << points << " points in " << plan.inputs.size() << " inputs\n"
-        << copc_line(plan) << "run every tile, K from 0 to " << last << ", on a cluster or here:\n"
+        << copc_line(plan) << reading_line(plan) << "run every tile, K from 0 to " << last
+        << ", on a cluster or here:\n"
         << "  sbatch --array=0-" << last << " lasmesh-tile.sbatch " << name << "\n"
         << "  seq 0 " << last << " | xargs -P 4 -I K lasmesh tile " << name << " --index K\n"
         << "then join them:\n"

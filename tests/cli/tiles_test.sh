@@ -25,6 +25,12 @@ check "plan: the sbatch line covers every tile" has plan.txt "sbatch --array=0-$
 check "plan: every tile reads only some inputs" python3 -c '
 import json; p = json.load(open("site.plan.json"))
 assert all(0 < len(t["inputs"]) < len(p["inputs"]) for t in p["tiles"]), [t["inputs"] for t in p["tiles"]]'
+# Each tile reads its inputs whole: the points read in all, against the survey's.
+times=$(python3 -c '
+import json; p = json.load(open("site.plan.json")); n = [i["points"] for i in p["inputs"]]
+print("%.2g" % (sum(n[i] for t in p["tiles"] for i in t["inputs"]) / sum(n)))')
+check "plan: says how many times the tile jobs read the inputs' points ($times)" \
+  has plan.txt "the tile jobs read the inputs' points $times times in all"
 
 seq 0 $((tiles - 1)) | xargs -P 2 -I K "$lasmesh" tile site.plan.json --index K -q; rc=$?
 check "tiles: every one exit 0" test "$rc" -eq 0
@@ -179,6 +185,9 @@ copc=$here/../data/laz/laspy_simple.copc.laz
 "$lasmesh" plan "$copc" --grid 48 --tile 1200 -o copc.json > copc-plan.txt; rc=$?
 check "plan of a COPC file: exit 0" test "$rc" -eq 0
 check "plan: says the tiles read its octree nodes" has copc-plan.txt "1 COPC input: the tiles read only the octree nodes that touch them"
+copc_times=$(sed -n 's/.*touch them, \([0-9.]*\)x its points in all/\1/p' copc-plan.txt)
+check "plan: the tile jobs read the nodes' points, not the file's ($copc_times times)" \
+  has copc-plan.txt "the tile jobs read the inputs' points $copc_times times in all"
 check "plan: every tile lists some of its 65 chunks, every chunk some tile" python3 -c '
 import json; p = json.load(open("copc.json")); seen = set()
 assert len(p["tiles"]) >= 4, len(p["tiles"])
