@@ -10,7 +10,6 @@
 
 #include <charconv>
 #include <cstdlib>
-#include <numeric>
 #include <set>
 
 namespace lasmesh::cli {
@@ -110,13 +109,7 @@ std::string copc_line(const TilePlan& plan) {
 std::string reading_line(const TilePlan& plan) {
     std::uint64_t read = 0, points = 0;
     for (const PlannedInput& input : plan.inputs) points += input.points;
-    for (const PlannedTile& tile : plan.tiles)
-        for (const std::size_t i : tile.inputs) {
-            std::uint64_t in_tile = plan.inputs[i].points;
-            for (const PlannedChunks& c : tile.chunks)
-                if (c.input == i) in_tile = std::accumulate(c.points.begin(), c.points.end(), std::uint64_t{0});
-            read += in_tile;
-        }
+    for (const PlannedTile& tile : plan.tiles) read += tile.points; // its inputs' (or nodes') points
     const double times = points ? double(read) / double(points) : 0.0;
     return "the tile jobs read the inputs' points " + two_digits(times) + " times in all" +
            (times >= 2 ? ": a tile reads whole each input (of COPC, each node) it touches; larger tiles read less\n"
