@@ -161,10 +161,14 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
     // Each point is counted by one tile: the tile it lies in, or, outside the grid, the first tile
     // that reads it. This one keeps the records in its tile (moved to the front), counts those it
     // owns outside the grid, passes over those of another tile that reads them, and stops at any
-    // other (a point no tile would keep).
+    // other (a point no tile would keep). Most points lie in this tile or in the span of the
+    // others that read the chunk, told by comparisons without branches (a branch on where each
+    // point lies is mispredicted as often as the tiles share the input); only the rest are looked
+    // at one by one.
     const std::int64_t x0 = locate.axes[0].starts[tile.x_cells[0]], x1 = locate.axes[0].starts[tile.x_cells[1]];
     const std::int64_t y0 = locate.axes[1].starts[tile.y_cells[0]], y1 = locate.axes[1].starts[tile.y_cells[1]];
     const std::int64_t z0 = locate.axes[2].starts.front(), z1 = locate.axes[2].starts.back();
+    std::vector<std::uint32_t> in_tile; // of the records handed over, those in this tile
     const auto keep = [&](std::size_t file, std::byte* records, std::size_t count) {
         const std::size_t input = tile.inputs[file];
         if (readers_for != input) {
@@ -173,47 +177,64 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
         }
         points_read += count;
         TileInputCount& c = counts[file];
+        in_tile.resize(count);
         std::size_t kept = 0;
-        for (std::size_t i = 0; i < count; ++i) {
+        for (std::size_t first = 0; first < count;) {
             while (left_in_chunk == 0 && chunk + 1 < readers.size()) left_in_chunk = readers[++chunk].points;
-            left_in_chunk -= 1;
             const ChunkReaders& r = readers[chunk];
-            std::byte* at = records + i * length;
-            const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
-                                                  load_le<std::int32_t>(at + 8)};
-            if (raw[2] < z0 || raw[2] >= z1) {
-                if (r.owns_outside) ++c.records, ++c.outside;
-                continue;
+            // The records of this call in the current chunk (past its planned points, the last chunk's).
+            const std::size_t end =
+                left_in_chunk == 0
+                    ? count
+                    : first + static_cast<std::size_t>(std::min<std::uint64_t>(left_in_chunk, count - first));
+            // Copied here so that they stay in registers (the counts written below might alias them).
+            const std::array<std::int64_t, 6> box{x0, x1, y0, y1, z0, z1};
+            const std::array<std::int64_t, 4> span = r.span;
+            const std::size_t size = length;
+            std::uint32_t* order = in_tile.data();
+            for (std::size_t i = first; i < end; ++i) {
+                const std::byte* at = records + i * size;
+                const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
+                                                      load_le<std::int32_t>(at + 8)};
+                const bool in_z = (raw[2] >= box[4]) & (raw[2] < box[5]);
+                const bool ours =
+                    in_z & (raw[0] >= box[0]) & (raw[0] < box[1]) & (raw[1] >= box[2]) & (raw[1] < box[3]);
+                const bool theirs =
+                    in_z & (raw[0] >= span[0]) & (raw[0] < span[1]) & (raw[1] >= span[2]) & (raw[1] < span[3]);
+                order[kept] = static_cast<std::uint32_t>(i);
+                kept += ours;
+                if (ours | theirs) continue;
+                if (!in_z || !locate.inside(raw)) {
+                    if (r.owns_outside) ++c.records, ++c.outside;
+                    continue;
+                }
+                const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
+                if (std::binary_search(r.tiles.begin(), r.tiles.end(), ty * columns + tx)) continue;
+                const SurveyFile& f = survey.files[input];
+                const LasHeader& h = survey.header;
+                const std::uint64_t record = r.points - left_in_chunk + (i - first); // in the file, or in its chunk
+                const std::string where = "x " + shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
+                                          shortest(double(raw[1]) * h.scale[1] + h.offset[1]) +
+                                          ", outside the file's header bounds (x " + shortest(f.min[0]) + " to " +
+                                          shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " +
+                                          shortest(f.max[1]) + ")" + (r.copc ? " or its COPC node's cube" : "");
+                throw_input_error(
+                    f.path,
+                    "point record " + std::to_string(record) +
+                        (r.copc ? " of its COPC chunk at byte " + std::to_string(r.offset) : std::string()) +
+                        " lies at " + where +
+                        ", in a tile that does not read it, so its points would be lost: correct the "
+                        "header's bounds (a scan of its points gives the true ones) and plan again, or "
+                        "mesh on one machine reading the points for their bounds",
+                    "scan_bounds");
             }
-            if (raw[0] >= x0 && raw[0] < x1 && raw[1] >= y0 && raw[1] < y1) {
-                if (kept != i) std::memmove(records + kept * length, at, length);
-                ++kept, ++c.records;
-                continue;
-            }
-            if (raw[0] >= r.span[0] && raw[0] < r.span[1] && raw[1] >= r.span[2] && raw[1] < r.span[3]) continue;
-            if (!locate.inside(raw)) {
-                if (r.owns_outside) ++c.records, ++c.outside;
-                continue;
-            }
-            const std::uint32_t tx = locate.tile_of(0, raw[0]), ty = locate.tile_of(1, raw[1]);
-            if (std::binary_search(r.tiles.begin(), r.tiles.end(), ty * columns + tx)) continue;
-            const SurveyFile& f = survey.files[input];
-            const LasHeader& h = survey.header;
-            const std::uint64_t record = r.points - left_in_chunk - 1; // in the file, or in its chunk
-            const std::string where = "x " + shortest(double(raw[0]) * h.scale[0] + h.offset[0]) + ", y " +
-                                      shortest(double(raw[1]) * h.scale[1] + h.offset[1]) +
-                                      ", outside the file's header bounds (x " + shortest(f.min[0]) + " to " +
-                                      shortest(f.max[0]) + ", y " + shortest(f.min[1]) + " to " + shortest(f.max[1]) +
-                                      ")" + (r.copc ? " or its COPC node's cube" : "");
-            throw_input_error(f.path,
-                              "point record " + std::to_string(record) +
-                                  (r.copc ? " of its COPC chunk at byte " + std::to_string(r.offset) : std::string()) +
-                                  " lies at " + where +
-                                  ", in a tile that does not read it, so its points would be lost: correct the "
-                                  "header's bounds (a scan of its points gives the true ones) and plan again, or "
-                                  "mesh on one machine reading the points for their bounds",
-                              "scan_bounds");
+            left_in_chunk -= end - first; // wraps, as one record at a time would, past the last chunk's points
+            first = end;
         }
+        c.records += kept;
+        // The tile's records to the front, in their order (each moves down, never over one still to move).
+        for (std::size_t k = 0; k < kept; ++k)
+            if (in_tile[k] != k) std::memcpy(records + k * length, records + std::size_t{in_tile[k]} * length, length);
         return kept;
     };
 
