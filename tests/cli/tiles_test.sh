@@ -165,6 +165,18 @@ done
 check "header bounds that lie: a tile stops (input error)" test "$failures" -ge 1
 check "naming the file and the record" contains lie.txt "$(basename "$last"): point record [0-9]* lies at x"
 check "saying its points would be lost" has lie.txt "its points would be lost"
+# The record named is the one that lies there: its x, read from the file, is the x the message gives.
+check "the record named holds the point named" python3 -c '
+import re, struct, sys
+found = re.findall(r"(\S+\.las): point record (\d+) lies at x ([-0-9.e]+)", open("lie.txt").read())
+assert found
+for path, record, x in found:
+    f = open(path, "rb"); head = f.read(227)
+    start, = struct.unpack_from("<I", head, 96); length, = struct.unpack_from("<H", head, 105)
+    scale, = struct.unpack_from("<d", head, 131); offset, = struct.unpack_from("<d", head, 155)
+    f.seek(start + int(record) * length); raw, = struct.unpack("<i", f.read(4))
+    assert abs(raw * scale + offset - float(x)) < 1e-6, (path, record, x, raw * scale + offset)
+'
 "$lasmesh" merge lie.json -o lie.ply > lie-merge.txt 2>&1; rc=$?
 check "merge then refuses (a tile missing), writing nothing" test "$rc" -eq 2 -a ! -e lie.ply
 
