@@ -188,19 +188,25 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
                     ? count
                     : first + static_cast<std::size_t>(std::min<std::uint64_t>(left_in_chunk, count - first));
             // Copied here so that they stay in registers (the counts written below might alias them).
-            const std::array<std::int64_t, 6> box{x0, x1, y0, y1, z0, z1};
-            const std::array<std::int64_t, 4> span = r.span;
+            // Each range [lo, hi) is its start and width: v lies in it when v - lo, unsigned, is
+            // below the width (one comparison; an empty range has width 0).
+            const auto range = [](std::int64_t lo, std::int64_t hi) {
+                return std::pair{lo, static_cast<std::uint64_t>(std::max(hi - lo, std::int64_t{0}))};
+            };
+            const auto in = [](std::int64_t v, std::pair<std::int64_t, std::uint64_t> r) {
+                return static_cast<std::uint64_t>(v - r.first) < r.second;
+            };
+            const auto tx = range(x0, x1), ty = range(y0, y1), tz = range(z0, z1);
+            const auto sx = range(r.span[0], r.span[1]), sy = range(r.span[2], r.span[3]);
             const std::size_t size = length;
             std::uint32_t* order = in_tile.data();
             for (std::size_t i = first; i < end; ++i) {
                 const std::byte* at = records + i * size;
                 const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
                                                       load_le<std::int32_t>(at + 8)};
-                const bool in_z = (raw[2] >= box[4]) & (raw[2] < box[5]);
-                const bool ours =
-                    in_z & (raw[0] >= box[0]) & (raw[0] < box[1]) & (raw[1] >= box[2]) & (raw[1] < box[3]);
-                const bool theirs =
-                    in_z & (raw[0] >= span[0]) & (raw[0] < span[1]) & (raw[1] >= span[2]) & (raw[1] < span[3]);
+                const bool in_z = in(raw[2], tz);
+                const bool ours = in_z & in(raw[0], tx) & in(raw[1], ty);
+                const bool theirs = in_z & in(raw[0], sx) & in(raw[1], sy);
                 order[kept] = static_cast<std::uint32_t>(i);
                 kept += ours;
                 if (ours | theirs) continue;
