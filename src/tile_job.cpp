@@ -56,6 +56,16 @@ struct TileLocator {
     }
 };
 
+// Raw integers [lo, hi) as a start and a width: v lies there when v - start, unsigned, is below
+// the width, one comparison (an empty range has width 0).
+struct RawRange {
+    std::int64_t start;
+    std::uint64_t width;
+    RawRange(std::int64_t lo, std::int64_t hi)
+        : start(lo), width(static_cast<std::uint64_t>(std::max(hi - lo, std::int64_t{0}))) {}
+    bool holds(std::int64_t v) const { return static_cast<std::uint64_t>(v - start) < width; }
+};
+
 // The tiles that read one chunk of an input (the whole file, unless it is a COPC file read in part).
 struct ChunkReaders {
     std::uint64_t points = 0;         // in the chunk, as planned
@@ -187,26 +197,18 @@ TileReport run_tile(const TilePlan& plan, std::size_t index, const BuildOptions&
                 left_in_chunk == 0
                     ? count
                     : first + static_cast<std::size_t>(std::min<std::uint64_t>(left_in_chunk, count - first));
-            // Copied here so that they stay in registers (the counts written below might alias them).
-            // Each range [lo, hi) is its start and width: v lies in it when v - lo, unsigned, is
-            // below the width (one comparison; an empty range has width 0).
-            const auto range = [](std::int64_t lo, std::int64_t hi) {
-                return std::pair{lo, static_cast<std::uint64_t>(std::max(hi - lo, std::int64_t{0}))};
-            };
-            const auto in = [](std::int64_t v, std::pair<std::int64_t, std::uint64_t> r) {
-                return static_cast<std::uint64_t>(v - r.first) < r.second;
-            };
-            const auto tx = range(x0, x1), ty = range(y0, y1), tz = range(z0, z1);
-            const auto sx = range(r.span[0], r.span[1]), sy = range(r.span[2], r.span[3]);
+            // Made here so that they stay in registers (the counts written below might alias them).
+            const RawRange tile_x(x0, x1), tile_y(y0, y1), grid_z(z0, z1);
+            const RawRange span_x(r.span[0], r.span[1]), span_y(r.span[2], r.span[3]);
             const std::size_t size = length;
             std::uint32_t* order = in_tile.data();
             for (std::size_t i = first; i < end; ++i) {
                 const std::byte* at = records + i * size;
                 const std::array<std::int64_t, 3> raw{load_le<std::int32_t>(at), load_le<std::int32_t>(at + 4),
                                                       load_le<std::int32_t>(at + 8)};
-                const bool in_z = in(raw[2], tz);
-                const bool ours = in_z & in(raw[0], tx) & in(raw[1], ty);
-                const bool theirs = in_z & in(raw[0], sx) & in(raw[1], sy);
+                const bool in_z = grid_z.holds(raw[2]);
+                const bool ours = in_z & tile_x.holds(raw[0]) & tile_y.holds(raw[1]);
+                const bool theirs = in_z & span_x.holds(raw[0]) & span_y.holds(raw[1]);
                 order[kept] = static_cast<std::uint32_t>(i);
                 kept += ours;
                 if (ours | theirs) continue;
