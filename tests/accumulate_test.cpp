@@ -5,6 +5,7 @@
 #include "cli/option_parsing.hpp" // the option text parsers, from the command line
 #include "grid/auto_grid.hpp"
 #include "grid/cell_sums.hpp"
+#include "grid/compiler_pages.hpp"
 #include "grid/opencl_device.hpp" // internal: build_program
 #include "lasmesh/error.hpp"
 #include "read/las_point.hpp"
@@ -503,6 +504,22 @@ TEST_CASE("a kernel that fails to build reports the compiler's log") {
         CHECK(message.find("kernel broken.cl failed to build") != std::string::npos);
         CHECK(message.find("undefined_name") != std::string::npos); // from the build log
     }
+}
+
+TEST_CASE("once a program is built, the compiler's clean pages are no longer resident") {
+    CHECK(is_compiler_library("/usr/lib/x86_64-linux-gnu/libLLVM-15.so.1"));
+    CHECK(is_compiler_library("/usr/lib/llvm-15/lib/libclang-cpp.so.15"));
+    CHECK(!is_compiler_library("/usr/lib/x86_64-linux-gnu/libc.so.6"));
+    CHECK(!is_compiler_library("/opt/libLLVM/lib/libpocl.so.2")); // by the file's name, not its folder's
+    const cl::Program program =
+        build_program(device().impl(), "probe.cl", "kernel void probe(global int* x) { x[0] = 1; }", "");
+    const std::vector<CompilerMapping> mappings = compiler_mappings(); // while the program is held
+    // PoCL, the suite's device, compiles with LLVM and clang: their read-only mappings are found,
+    // and none is left resident (a page or two another thread touched since, at most).
+    if (device().info().platform.find("Portable Computing Language") != std::string::npos) CHECK(mappings.size() >= 2);
+    std::size_t resident = 0;
+    for (const CompilerMapping& m : mappings) resident += m.resident;
+    CHECK(resident <= 64 * 1024);
 }
 
 TEST_CASE("sparse grid: position sums give each cell's centroid exactly") {

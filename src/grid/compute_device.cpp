@@ -2,6 +2,7 @@
 // Device discovery and selection through the OpenCL ICD loader, and kernel builds with logs.
 #include "opencl_device.hpp"
 
+#include "grid/compiler_pages.hpp"
 #include "lasmesh/error.hpp"
 
 #include <algorithm>
@@ -148,6 +149,7 @@ cl::Program build_program(ComputeDevice::Impl& device, const char* name, const s
                                                " with options \"" + options + "\"; build log:\n" + log);
         throw_device_error(e, std::string("building kernel ") + name);
     }
+    release_compiler_pages(); // built: the compiler's code need not stay resident (compiler_pages.hpp)
     return program;
 }
 
