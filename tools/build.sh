@@ -72,7 +72,7 @@ build_type=${LASMESH_BUILD_TYPE:-Release}
 # in it (docs/testing.md, "How long it takes"). tools/test.sh builds build-asan/ through it too.
 source tools/ccache_env.sh
 # A unity build (CMake compiles the sources in batches, each header parsed once a batch): a fresh
-# build took 1m23s instead of 2m36s on 2 cores, with the same output bytes (docs/benchmarks.md).
+# build took 1m23s instead of 2m36s on 2 cores, with the same output bytes.
 # A configure that failed half-way leaves a cache but no Makefile: configure again then; a build
 # folder configured without the compiler cache is configured again with it.
 if [ ! -f build/Makefile ] || ! grep -qs "^CMAKE_CXX_COMPILER_LAUNCHER:.*=${compiler_launcher}\$" build/CMakeCache.txt; then

@@ -246,7 +246,7 @@ void estimate_normals(Planes& planes) {
 // lies on the surface. Within half a cell of the normal line, a pipe a cell or two across sank
 // toward its axis at coarse grids (the deck at 25 cm cells lost a tenth of its pipes' area). On
 // the 181M-point deck the mesh went from 0.82 to 0.40 cm off the true surfaces on average and
-// from 197,295 to 132,284 triangles (docs/benchmarks.md).
+// from 197,295 to 132,284 triangles.
 void pool_split_layers(Planes& planes, double h) {
     std::vector<Vec> moved(planes.centroid.size());
     tbb::parallel_for(std::size_t{0}, planes.cell.size(), [&](std::size_t p) {
